@@ -1,0 +1,194 @@
+// pg_oiio.cpp - the OpenImageIO adapter behind pg_image.h (reading all formats,
+// writing PNG). C++ stays inside this file: the header is plain C.
+//
+// Reads first check the path with stat() so that "missing", "directory" and
+// "empty" get precise messages, then open the file and check its size against the
+// pixel limit BEFORE any pixel memory is allocated. OpenImageIO reports truncated
+// data as an error from read_image (or as a pending error message): both count.
+#include "planetgen/pg_image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+using namespace OIIO;
+
+static pg_status check_path(const char *path, pg_error *err) {
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: %s", path, std::strerror(errno));
+    if (S_ISDIR(st.st_mode))
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: is a directory, not an image", path);
+    if (st.st_size == 0) return pg_error_set(err, PG_ERR_BADINPUT, "%s: empty file", path);
+    return PG_OK;
+}
+
+static std::string one_line(std::string s) {
+    for (char &c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    if (s.size() > 200) s = s.substr(0, 200) + "...";
+    return s;
+}
+
+static bool map_type(TypeDesc t, pg_sample_type *st, float *scale) {
+    switch (t.basetype) {
+    case TypeDesc::UINT8: *st = PG_SAMPLE_UINT8; *scale = 1.0f / 255.0f; return true;
+    case TypeDesc::INT8: *st = PG_SAMPLE_INT8; *scale = 1.0f / 127.0f; return true;
+    case TypeDesc::UINT16: *st = PG_SAMPLE_UINT16; *scale = 1.0f / 65535.0f; return true;
+    case TypeDesc::INT16: *st = PG_SAMPLE_INT16; *scale = 1.0f / 32767.0f; return true;
+    case TypeDesc::UINT32: *st = PG_SAMPLE_UINT32; *scale = 1.0f / 4294967295.0f; return true;
+    case TypeDesc::INT32: *st = PG_SAMPLE_INT32; *scale = 1.0f / 2147483647.0f; return true;
+    case TypeDesc::HALF: *st = PG_SAMPLE_HALF; *scale = 1.0f; return true;
+    case TypeDesc::FLOAT: *st = PG_SAMPLE_FLOAT; *scale = 1.0f; return true;
+    case TypeDesc::DOUBLE: *st = PG_SAMPLE_DOUBLE; *scale = 1.0f; return true;
+    default: return false;
+    }
+}
+
+// Convert raw samples to float without normalising, so integer heights keep units.
+template <typename T> static void widen(const void *src, float *dst, size_t n) {
+    const T *s = static_cast<const T *>(src);
+    for (size_t i = 0; i < n; i++) dst[i] = static_cast<float>(s[i]);
+}
+
+static void widen_any(TypeDesc t, const void *src, float *dst, size_t n) {
+    switch (t.basetype) {
+    case TypeDesc::UINT8: widen<uint8_t>(src, dst, n); break;
+    case TypeDesc::INT8: widen<int8_t>(src, dst, n); break;
+    case TypeDesc::UINT16: widen<uint16_t>(src, dst, n); break;
+    case TypeDesc::INT16: widen<int16_t>(src, dst, n); break;
+    case TypeDesc::UINT32: widen<uint32_t>(src, dst, n); break;
+    case TypeDesc::INT32: widen<int32_t>(src, dst, n); break;
+    case TypeDesc::FLOAT: std::memcpy(dst, src, n * sizeof(float)); break;
+    case TypeDesc::DOUBLE: widen<double>(src, dst, n); break;
+    default: break;
+    }
+}
+
+static pg_status open_input(const char *path, std::unique_ptr<ImageInput> &in, pg_error *err) {
+    pg_status st = check_path(path, err);
+    if (st != PG_OK) return st;
+    in = ImageInput::open(path);
+    if (!in) {
+        std::string e = one_line(OIIO::geterror());
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a readable image (%s)", path,
+                            e.empty() ? "unknown format" : e.c_str());
+    }
+    return PG_OK;
+}
+
+extern "C" pg_status pg_image_probe(const char *path, int *width, int *height, int *channels,
+                                    pg_error *err) {
+    std::unique_ptr<ImageInput> in;
+    pg_status st = open_input(path, in, err);
+    if (st != PG_OK) return st;
+    const ImageSpec &spec = in->spec();
+    *width = spec.width;
+    *height = spec.height;
+    *channels = spec.nchannels;
+    in->close();
+    return PG_OK;
+}
+
+extern "C" pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_image *out,
+                                   pg_error *err) {
+    std::memset(out, 0, sizeof *out);
+    std::unique_ptr<ImageInput> in;
+    pg_status st = open_input(path, in, err);
+    if (st != PG_OK) return st;
+    const ImageSpec &spec = in->spec();
+    if (max_pixels == 0) max_pixels = PG_IMAGE_DEFAULT_MAX_PIXELS;
+    uint64_t npix = (uint64_t)spec.width * (uint64_t)spec.height;
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: unsupported image geometry %dx%dx%d",
+                            path, spec.width, spec.height, spec.depth);
+    if (npix > max_pixels)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: %dx%d is %.0f Mpx, above the limit of %.0f Mpx", path,
+                            spec.width, spec.height, npix / 1e6, max_pixels / 1e6);
+    pg_sample_type stype;
+    float scale;
+    if (!map_type(spec.format, &stype, &scale))
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: unsupported sample type %s", path,
+                            spec.format.c_str());
+    size_t n = (size_t)npix * (size_t)spec.nchannels;
+    std::vector<unsigned char> raw;
+    float *data = static_cast<float *>(std::malloc(n * sizeof(float)));
+    try {
+        if (!spec.format.is_floating_point()) raw.resize(n * spec.format.size());
+    } catch (...) {
+        std::free(data);
+        data = nullptr;
+    }
+    if (!data)
+        return pg_error_set(err, PG_ERR_NOMEM, "%s: cannot allocate %.0f MB for pixels", path,
+                            n * 4.0 / 1e6);
+    // Floating-point files are read straight as float (OIIO does not normalise
+    // floats); integer files natively, then widened without normalising.
+    bool is_float = spec.format.is_floating_point();
+    if (is_float) raw.clear();
+    bool ok = is_float ? in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, data)
+                       : in->read_image(0, 0, 0, spec.nchannels, spec.format, raw.data());
+    std::string e = one_line(in->geterror());
+    in->close();
+    if (!ok || !e.empty()) {
+        std::free(data);
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: corrupt or truncated image (%s)", path,
+                            e.empty() ? "read failed" : e.c_str());
+    }
+    if (!is_float) widen_any(spec.format, raw.data(), data, n);
+    out->width = spec.width;
+    out->height = spec.height;
+    out->channels = spec.nchannels;
+    out->data = data;
+    out->src_type = stype;
+    out->unit_scale = scale;
+    std::snprintf(out->format_name, sizeof out->format_name, "%s", in->format_name());
+    return PG_OK;
+}
+
+template <typename T>
+static std::vector<T> quantise(const pg_image *img, double maxv) {
+    size_t n = (size_t)img->width * img->height * img->channels;
+    std::vector<T> q(n);
+    for (size_t i = 0; i < n; i++) {
+        double v = img->data[i];
+        v = std::isfinite(v) ? v : 0.0;
+        v = v < 0 ? 0 : (v > 1 ? 1 : v);
+        q[i] = static_cast<T>(std::lround(v * maxv));
+    }
+    return q;
+}
+
+extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, int bits,
+                                        pg_error *err) {
+    if (bits != 8 && bits != 16)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: PNG bit depth %d not 8 or 16", path, bits);
+    TypeDesc fmt = bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16;
+    ImageSpec spec(img->width, img->height, img->channels, fmt);
+    auto out = ImageOutput::create("png");
+    if (!out || !out->open(path, spec))
+        return pg_error_set(err, PG_ERR_IO, "%s: cannot write (%s)", path,
+                            one_line(out ? out->geterror() : OIIO::geterror()).c_str());
+    bool ok;
+    if (bits == 8) {
+        std::vector<uint8_t> q = quantise<uint8_t>(img, 255.0);
+        ok = out->write_image(fmt, q.data());
+    } else {
+        std::vector<uint16_t> q = quantise<uint16_t>(img, 65535.0);
+        ok = out->write_image(fmt, q.data());
+    }
+    ok = out->close() && ok;
+    if (!ok)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed (%s)", path,
+                            one_line(out->geterror()).c_str());
+    return PG_OK;
+}

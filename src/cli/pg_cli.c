@@ -1,0 +1,401 @@
+/* pg_cli.c - shared CLI machinery: options, messages, progress, outputs, report.
+ *
+ * The invariants every command gets from here:
+ *  - a usage error is one line "planetgen CMD: ..." naming the option, exit 2;
+ *  - outputs are written under temporary names and renamed only when the whole
+ *    command succeeded, so a failed run leaves no partial files behind;
+ *  - progress is a bar with ETA on a terminal, one line per stage otherwise. */
+#include "pg_cli.h"
+
+#include "planetgen/pg_json.h"
+
+#include <errno.h>
+#include <math.h>
+#include <omp.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now_s(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+double pg_cli_peak_rss_bytes(void) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return 1024.0 * (double)ru.ru_maxrss;
+}
+
+int pg_cli_usage_error(pg_cli *cli, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "planetgen %s: ", cli->cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    pg_json_free(cli->report);
+    cli->report = NULL;
+    return 2;
+}
+
+static bool choice_ok(const char *choices, const char *v) {
+    size_t n = strlen(v);
+    for (const char *p = choices; p && *p;) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == n && strncmp(p, v, n) == 0) return true;
+        p = bar ? bar + 1 : NULL;
+    }
+    return false;
+}
+
+/* Store one option value, checking type and range. Returns 0 or 2. */
+static int store_value(pg_cli *cli, const pg_opt *o, const char *v) {
+    char *end = NULL;
+    switch (o->kind) {
+    case PG_OPT_FLAG: *(bool *)o->dest = true; return 0;
+    case PG_OPT_STRING:
+        if (!*v) return pg_cli_usage_error(cli, "%s: empty value", o->name);
+        *(const char **)o->dest = v;
+        return 0;
+    case PG_OPT_CHOICE:
+        if (!choice_ok(o->choices, v))
+            return pg_cli_usage_error(cli, "%s: unknown value '%s' (choose %s)", o->name, v,
+                                      o->choices);
+        *(const char **)o->dest = v;
+        return 0;
+    case PG_OPT_INT: {
+        errno = 0;
+        long x = strtol(v, &end, 10);
+        if (!*v || *end || errno)
+            return pg_cli_usage_error(cli, "%s: '%s' is not an integer", o->name, v);
+        if (x < o->min || x > o->max)
+            return pg_cli_usage_error(cli, "%s: %ld is out of range [%.0f, %.0f]", o->name, x,
+                                      o->min, o->max);
+        *(long *)o->dest = x;
+        return 0;
+    }
+    case PG_OPT_DOUBLE: {
+        errno = 0;
+        double x = strtod(v, &end);
+        if (!*v || *end || errno || !isfinite(x))
+            return pg_cli_usage_error(cli, "%s: '%s' is not a finite number", o->name, v);
+        if (x < o->min || x > o->max)
+            return pg_cli_usage_error(cli, "%s: %g is out of range [%g, %g]", o->name, x, o->min,
+                                      o->max);
+        *(double *)o->dest = x;
+        return 0;
+    }
+    }
+    return 2;
+}
+
+static const pg_opt *find_opt(const pg_opt *specs, const pg_opt *common, const char *name) {
+    for (const pg_opt *o = specs; o && o->name; o++)
+        if (!strcmp(o->name, name) || (o->alias && !strcmp(o->alias, name))) return o;
+    for (const pg_opt *o = common; o->name; o++)
+        if (!strcmp(o->name, name) || (o->alias && !strcmp(o->alias, name))) return o;
+    return NULL;
+}
+
+static int check_json_path(pg_cli *cli) {
+    if (!cli->json_path) return 0;
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", cli->json_path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        *slash = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    struct stat st;
+    if (stat(dir[0] ? dir : "/", &st) != 0 || !S_ISDIR(st.st_mode))
+        return pg_cli_usage_error(cli, "--json %s: directory '%s' does not exist", cli->json_path,
+                                  dir);
+    if (access(dir[0] ? dir : "/", W_OK) != 0)
+        return pg_cli_usage_error(cli, "--json %s: directory '%s' is not writable",
+                                  cli->json_path, dir);
+    cli->report = pg_json_object();
+    return 0;
+}
+
+int pg_cli_parse(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const char **pos,
+                 int max_pos, int *npos, bool *done) {
+    bool help = false;
+    const pg_opt common[] = {
+        {"--json", NULL, PG_OPT_STRING, &cli->json_path, 0, 0, NULL, "FILE",
+         "write a machine-readable summary (inputs, parameters, stage times, peak memory)"},
+        {"--quiet", "-q", PG_OPT_FLAG, &cli->quiet, 0, 0, NULL, NULL, "no progress or info output"},
+        {"--verbose", "-v", PG_OPT_FLAG, &cli->verbose, 0, 0, NULL, NULL, "more detail"},
+        {"--threads", NULL, PG_OPT_INT, &cli->threads, 0, 1024, NULL, "N",
+         "OpenMP threads (0 = all cores); results do not depend on it"},
+        {"--help", "-h", PG_OPT_FLAG, &help, 0, 0, NULL, NULL, "show this help"},
+        PG_OPT_END};
+    *npos = 0;
+    *done = false;
+    cli->t_start = now_s();
+    cli->tty = isatty(STDERR_FILENO);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (a[0] == '-' && a[1] != '\0') {
+            char name[64];
+            const char *eq = strchr(a, '=');
+            size_t len = eq ? (size_t)(eq - a) : strlen(a);
+            if (len >= sizeof name) return pg_cli_usage_error(cli, "unknown option '%s'", a);
+            memcpy(name, a, len);
+            name[len] = '\0';
+            const pg_opt *o = find_opt(specs, common, name);
+            if (!o) return pg_cli_usage_error(cli, "unknown option '%s'", name);
+            if (o->kind == PG_OPT_FLAG) {
+                if (eq) return pg_cli_usage_error(cli, "%s takes no value", name);
+                *(bool *)o->dest = true;
+                continue;
+            }
+            const char *v = eq ? eq + 1 : (i + 1 < argc ? argv[++i] : NULL);
+            if (!v) return pg_cli_usage_error(cli, "%s needs a value", name);
+            int rc = store_value(cli, o, v);
+            if (rc) return rc;
+        } else {
+            if (*npos >= max_pos) return pg_cli_usage_error(cli, "unexpected argument '%s'", a);
+            pos[(*npos)++] = a;
+        }
+    }
+    if (help) {
+        *done = true;
+        return 0;
+    }
+    if (cli->threads > 0) omp_set_num_threads((int)cli->threads);
+    return check_json_path(cli);
+}
+
+static void print_opt_table(const pg_opt *specs, FILE *f) {
+    for (const pg_opt *o = specs; o && o->name; o++) {
+        char left[96];
+        snprintf(left, sizeof left, "%s%s%s%s%s", o->alias ? o->alias : "", o->alias ? ", " : "",
+                 o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
+        fprintf(f, "  %-28s %s", left, o->help ? o->help : "");
+        if (o->kind == PG_OPT_CHOICE) fprintf(f, " (%s)", o->choices);
+        if (o->kind == PG_OPT_INT || o->kind == PG_OPT_DOUBLE)
+            fprintf(f, " [%g..%g]", o->min, o->max);
+        fputc('\n', f);
+    }
+}
+
+void pg_cli_print_help(const pg_cli *cli, const char *usage, const char *description,
+                       const pg_opt *specs, FILE *f) {
+    fprintf(f, "usage: planetgen %s %s\n\n%s\n\noptions:\n", cli->cmd, usage, description);
+    print_opt_table(specs, f);
+    fprintf(f, "\ncommon options:\n"
+               "  --json FILE                  write a machine-readable summary\n"
+               "  -q, --quiet                  no progress or info output\n"
+               "  -v, --verbose                more detail\n"
+               "  --threads N                  OpenMP threads (0 = all cores)\n"
+               "  -h, --help                   show this help\n"
+               "\nexit codes: 0 success, 1 runtime failure, 2 usage error or bad input\n");
+}
+
+void pg_cli_info(const pg_cli *cli, const char *fmt, ...) {
+    if (cli->quiet) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    fflush(stdout);
+}
+
+void pg_cli_verbose(const pg_cli *cli, const char *fmt, ...) {
+    if (cli->quiet || !cli->verbose) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    fflush(stdout);
+}
+
+void pg_cli_stage_begin(pg_cli *cli, const char *name) {
+    snprintf(cli->stage_name, sizeof cli->stage_name, "%s", name);
+    cli->stage_t0 = now_s();
+    cli->last_draw = 0;
+    if (!cli->quiet && cli->tty) pg_cli_progress(cli, 0.0);
+}
+
+void pg_cli_progress(pg_cli *cli, double frac) {
+    if (cli->quiet || !cli->tty) return;
+    double t = now_s();
+    if (frac > 0 && frac < 1 && t - cli->last_draw < 0.1) return;
+    cli->last_draw = t;
+    if (frac < 0) frac = 0;
+    if (frac > 1) frac = 1;
+    int filled = (int)(frac * 30 + 0.5);
+    char bar[31];
+    for (int i = 0; i < 30; i++) bar[i] = i < filled ? '#' : '.';
+    bar[30] = '\0';
+    double el = t - cli->stage_t0;
+    if (frac > 0.01)
+        fprintf(stderr, "\r%-24s [%s] %3.0f%%  ETA %5.1fs ", cli->stage_name, bar, 100 * frac,
+                el / frac - el);
+    else
+        fprintf(stderr, "\r%-24s [%s] %3.0f%%  ETA   ?   ", cli->stage_name, bar, 100 * frac);
+    fflush(stderr);
+}
+
+void pg_cli_stage_end(pg_cli *cli) {
+    double dt = now_s() - cli->stage_t0;
+    if (cli->nstages < PG_STAGE_MAX) {
+        snprintf(cli->stages[cli->nstages].name, sizeof cli->stages[0].name, "%s",
+                 cli->stage_name);
+        cli->stages[cli->nstages].seconds = dt;
+        cli->nstages++;
+    }
+    if (cli->quiet) return;
+    if (cli->tty) {
+        cli->last_draw = 0;
+        pg_cli_progress(cli, 1.0);
+        fprintf(stderr, " %.2f s\n", dt);
+    } else {
+        fprintf(stderr, "planetgen %s: %s done in %.2f s\n", cli->cmd, cli->stage_name, dt);
+    }
+}
+
+pg_status pg_cli_prepare_outdir(pg_cli *cli, const char *dir, pg_error *err) {
+    struct stat st;
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: exists and is not a directory", dir);
+        if (access(dir, W_OK) != 0)
+            return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: directory is not writable", dir);
+        return PG_OK;
+    }
+    /* Create the directory and any missing parents. */
+    char path[4096];
+    snprintf(path, sizeof path, "%s", dir);
+    for (char *p = path + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST)
+            return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: cannot create '%s': %s", dir, path,
+                                strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(path, 0777) != 0 && errno != EEXIST)
+        return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: cannot create directory: %s", dir,
+                            strerror(errno));
+    free(cli->created_dir);
+    cli->created_dir = strdup(dir);
+    return PG_OK;
+}
+
+const char *pg_cli_output_path(pg_cli *cli, const char *dir, const char *name) {
+    char fin[4096], tmp[4096];
+    snprintf(fin, sizeof fin, "%s/%s", dir, name);
+    /* Keep the extension last so libraries that pick a format by suffix still work. */
+    snprintf(tmp, sizeof tmp, "%s/.tmp-%d-%s", dir, (int)getpid(), name);
+    char **t = realloc(cli->staged_tmp, (cli->nstaged + 1) * sizeof *t);
+    if (t) cli->staged_tmp = t;
+    char **f = realloc(cli->staged_final, (cli->nstaged + 1) * sizeof *f);
+    if (f) cli->staged_final = f;
+    if (!t || !f) return NULL;
+    cli->staged_tmp[cli->nstaged] = strdup(tmp);
+    cli->staged_final[cli->nstaged] = strdup(fin);
+    return cli->staged_tmp[cli->nstaged++];
+}
+
+static void free_staged(pg_cli *cli) {
+    for (int i = 0; i < cli->nstaged; i++) {
+        free(cli->staged_tmp[i]);
+        free(cli->staged_final[i]);
+    }
+    free(cli->staged_tmp);
+    free(cli->staged_final);
+    cli->staged_tmp = cli->staged_final = NULL;
+    cli->nstaged = 0;
+}
+
+pg_status pg_cli_commit(pg_cli *cli, pg_error *err) {
+    for (int i = 0; i < cli->nstaged; i++) {
+        if (rename(cli->staged_tmp[i], cli->staged_final[i]) != 0) {
+            pg_error_set(err, PG_ERR_IO, "%s: cannot rename into place: %s",
+                         cli->staged_final[i], strerror(errno));
+            /* Remove what is not yet renamed; renamed files are complete. */
+            for (int j = i; j < cli->nstaged; j++) unlink(cli->staged_tmp[j]);
+            free_staged(cli);
+            return PG_ERR_IO;
+        }
+    }
+    free_staged(cli);
+    return PG_OK;
+}
+
+void pg_cli_abort(pg_cli *cli) {
+    for (int i = 0; i < cli->nstaged; i++) unlink(cli->staged_tmp[i]);
+    free_staged(cli);
+    if (cli->created_dir) {
+        rmdir(cli->created_dir); /* only succeeds if empty: never removes user files */
+        free(cli->created_dir);
+        cli->created_dir = NULL;
+    }
+}
+
+int pg_cli_fail(pg_cli *cli, const pg_error *err) {
+    if (cli->tty && !cli->quiet) fputc('\n', stderr);
+    fprintf(stderr, "planetgen %s: %s\n", cli->cmd,
+            err && err->msg[0] ? err->msg : "failed");
+    pg_cli_abort(cli);
+    pg_json_free(cli->report);
+    cli->report = NULL;
+    return pg_status_exit_code(err ? err->status : PG_ERR_RUNTIME);
+}
+
+struct pg_json *pg_cli_report(pg_cli *cli) {
+    return cli->report;
+}
+
+/* Stage the report as one more output, so it too appears only on success. */
+static pg_status stage_report(pg_cli *cli, pg_error *err) {
+    if (!cli->report) return PG_OK;
+    pg_json_set_string(cli->report, "command", cli->cmd);
+    pg_json_set_string(cli->report, "version", pg_version());
+    pg_json *st = pg_json_set_array(cli->report, "stages");
+    for (int i = 0; i < cli->nstages; i++) {
+        pg_json *s = pg_json_push_object(st);
+        pg_json_set_string(s, "name", cli->stages[i].name);
+        pg_json_set_number(s, "seconds", cli->stages[i].seconds);
+    }
+    pg_json_set_number(cli->report, "seconds_total", now_s() - cli->t_start);
+    pg_json_set_number(cli->report, "peak_rss_bytes", pg_cli_peak_rss_bytes());
+    pg_json_set_number(cli->report, "threads", omp_get_max_threads());
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", cli->json_path);
+    char *slash = strrchr(dir, '/');
+    const char *base = slash ? slash + 1 : dir;
+    if (slash)
+        *slash = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    char name[4096];
+    snprintf(name, sizeof name, "%s", base);
+    const char *tmp = pg_cli_output_path(cli, dir[0] ? dir : "/", name);
+    FILE *f = tmp ? fopen(tmp, "w") : NULL;
+    if (!f) return pg_error_set(err, PG_ERR_IO, "--json %s: cannot write", cli->json_path);
+    int wr = pg_json_write(cli->report, f);
+    if (fclose(f) != 0 || wr != 0)
+        return pg_error_set(err, PG_ERR_IO, "--json %s: write failed (disk full?)",
+                            cli->json_path);
+    return PG_OK;
+}
+
+int pg_cli_finish(pg_cli *cli) {
+    pg_error err = {0};
+    if (stage_report(cli, &err) != PG_OK || pg_cli_commit(cli, &err) != PG_OK)
+        return pg_cli_fail(cli, &err);
+    free(cli->created_dir);
+    cli->created_dir = NULL;
+    pg_json_free(cli->report);
+    cli->report = NULL;
+    return 0;
+}

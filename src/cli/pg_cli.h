@@ -1,0 +1,114 @@
+/* pg_cli.h - the CLI's shared machinery: the subcommand table, a declarative option
+ * parser with uniform one-line errors, progress reporting, the --json summary, and
+ * output-file discipline (temp name, rename when complete, nothing left on failure).
+ *
+ * A subcommand is a function `int pg_cmd_NAME(pg_cli *cli, int argc, char **argv)`
+ * registered in main.c's table. It declares its options as a pg_opt array, calls
+ * pg_cli_parse(), validates every input BEFORE creating any output, then works,
+ * reporting stages with pg_cli_stage_begin/end. It returns an exit code (0/1/2)
+ * through pg_cli_fail()/pg_cli_finish(). */
+#ifndef PG_CLI_H
+#define PG_CLI_H
+
+#include "planetgen/pg_common.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+
+typedef enum pg_opt_kind {
+    PG_OPT_FLAG,   /* bool, no value */
+    PG_OPT_STRING, /* const char * */
+    PG_OPT_INT,    /* long, range-checked [min, max] */
+    PG_OPT_DOUBLE, /* double, finite, range-checked [min, max] */
+    PG_OPT_CHOICE  /* const char *, one of choices "a|b|c" */
+} pg_opt_kind;
+
+typedef struct pg_opt {
+    const char *name;  /* long form, e.g. "--seed" */
+    const char *alias; /* short form, e.g. "-o", or NULL */
+    pg_opt_kind kind;
+    void *dest; /* bool *, const char **, long *, double * */
+    double min, max;
+    const char *choices;
+    const char *metavar;
+    const char *help;
+} pg_opt;
+
+#define PG_OPT_END {NULL, NULL, PG_OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL}
+
+#define PG_STAGE_MAX 32
+
+/* Per-invocation state: everything a command needs, no globals. */
+typedef struct pg_cli {
+    const char *cmd;      /* subcommand name, for messages */
+    bool quiet, verbose;  /* common options */
+    const char *json_path;
+    long threads;         /* 0 = OpenMP default */
+    bool tty;             /* stderr is a terminal: draw a progress bar */
+    double t_start;
+    /* stages, for progress lines and the JSON report */
+    int nstages;
+    struct {
+        char name[48];
+        double seconds;
+    } stages[PG_STAGE_MAX];
+    double stage_t0;
+    char stage_name[48];
+    double last_draw;
+    /* the JSON report: commands add "inputs", "parameters" and "results" members */
+    struct pg_json *report;
+    /* files staged for atomic commit: written as temp names, renamed at finish */
+    int nstaged;
+    char **staged_tmp, **staged_final;
+    char *created_dir; /* output dir created by us, removed on failure if empty */
+} pg_cli;
+
+/* Parse argv against specs plus the common options (--json, --quiet, --verbose,
+ * --threads, --help). Positional arguments go to pos (at most max_pos). Returns 0,
+ * or 2 after printing a one-line usage error; *done is set when --help was handled. */
+int pg_cli_parse(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const char **pos,
+                 int max_pos, int *npos, bool *done);
+
+/* Print the help text for a command: usage line plus option table. */
+void pg_cli_print_help(const pg_cli *cli, const char *usage, const char *description,
+                       const pg_opt *specs, FILE *f);
+
+/* Messages: info goes to stdout unless --quiet; errors go to stderr as
+ * "planetgen CMD: message". */
+void pg_cli_info(const pg_cli *cli, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+void pg_cli_verbose(const pg_cli *cli, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* Stages: a progress bar with ETA on a tty, else one line per stage; --quiet
+ * silences both. pg_cli_progress(frac) updates the bar within a stage. */
+void pg_cli_stage_begin(pg_cli *cli, const char *name);
+void pg_cli_progress(pg_cli *cli, double frac);
+void pg_cli_stage_end(pg_cli *cli);
+
+/* Output discipline. pg_cli_prepare_outdir() checks/creates DIR (remembering that
+ * we made it). pg_cli_output_path() returns a temp path to write for the final file
+ * DIR/NAME (caller frees nothing; strings live in cli). pg_cli_commit() renames all
+ * staged files; pg_cli_abort() deletes them (and the dir if we created it and it is
+ * empty). */
+pg_status pg_cli_prepare_outdir(pg_cli *cli, const char *dir, pg_error *err);
+const char *pg_cli_output_path(pg_cli *cli, const char *dir, const char *name);
+pg_status pg_cli_commit(pg_cli *cli, pg_error *err);
+void pg_cli_abort(pg_cli *cli);
+
+/* End a command. pg_cli_fail prints err's line and returns its exit code after
+ * aborting staged outputs; pg_cli_finish commits outputs, writes the --json report
+ * (stages, peak memory) and returns 0 (or 1 if committing fails). */
+int pg_cli_fail(pg_cli *cli, const pg_error *err);
+int pg_cli_finish(pg_cli *cli);
+
+/* Usage error for an option/argument: prints "planetgen CMD: MSG" and returns 2. */
+int pg_cli_usage_error(pg_cli *cli, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* The JSON report object that pg_cli_finish writes; NULL without --json. */
+struct pg_json *pg_cli_report(pg_cli *cli);
+
+/* Peak resident set size of this process, in bytes. */
+double pg_cli_peak_rss_bytes(void);
+
+#endif

@@ -1,0 +1,226 @@
+/* pg_exr.c - float32 EXR writing and reading with OpenEXR's C API.
+ *
+ * Scanline parts, ZIP-compressed, every channel FLOAT. The encoder's channel list is
+ * in the file's (alphabetical) order, so each coding channel is matched to the
+ * interleaved image channel by name. Errors from the library are captured through
+ * the context's error handler so the caller gets one line naming the file. */
+#include "planetgen/pg_exr.h"
+
+#include <openexr.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct exr_msg {
+    char text[256];
+} exr_msg;
+
+static void capture_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
+    void *ud = NULL;
+    exr_get_user_data(ctxt, &ud);
+    exr_msg *m = ud;
+    if (m && !m->text[0])
+        snprintf(m->text, sizeof m->text, "%s: %s", exr_get_error_code_as_string(code),
+                 msg ? msg : "");
+}
+
+static pg_status exr_fail(pg_error *err, pg_status st, const char *path, const exr_msg *m,
+                          exr_result_t rv) {
+    return pg_error_set(err, st, "%s: OpenEXR error: %s", path,
+                        m->text[0] ? m->text : exr_get_error_code_as_string(rv));
+}
+
+static const char *default_channel_name(int nch, int c) {
+    static const char *const names[5][4] = {
+        {"", "", "", ""}, {"Y", "", "", ""}, {"Y", "A", "", ""}, {"R", "G", "B", ""},
+        {"R", "G", "B", "A"}};
+    return nch >= 1 && nch <= 4 ? names[nch][c] : "";
+}
+
+static const char *channel_name(const char **names, int nch, int c) {
+    return names ? names[c] : default_channel_name(nch, c);
+}
+
+static int find_channel(const pg_image *img, const char **names, const char *want) {
+    for (int c = 0; c < img->channels; c++)
+        if (strcmp(channel_name(names, img->channels, c), want) == 0) return c;
+    return -1;
+}
+
+static exr_result_t define_part(exr_context_t ctxt, const char *name, const pg_image *img,
+                                const char **names) {
+    int idx;
+    exr_result_t rv = exr_add_part(ctxt, name, EXR_STORAGE_SCANLINE, &idx);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_initialize_required_attr_simple(ctxt, idx, img->width, img->height,
+                                                 EXR_COMPRESSION_ZIP);
+    for (int c = 0; rv == EXR_ERR_SUCCESS && c < img->channels; c++)
+        rv = exr_add_channel(ctxt, idx, channel_name(names, img->channels, c), EXR_PIXEL_FLOAT,
+                             EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    return rv;
+}
+
+static exr_result_t write_part_pixels(exr_context_t ctxt, int part, const pg_image *img,
+                                      const char **names) {
+    int32_t lines;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
+    exr_encode_pipeline_t enc;
+    memset(&enc, 0, sizeof enc);
+    bool inited = false;
+    int32_t stride = (int32_t)sizeof(float) * img->channels;
+    for (int y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lines) {
+        exr_chunk_info_t ci;
+        rv = exr_write_scanline_chunk_info(ctxt, part, y, &ci);
+        if (rv != EXR_ERR_SUCCESS) break;
+        rv = inited ? exr_encoding_update(ctxt, part, &ci, &enc)
+                    : exr_encoding_initialize(ctxt, part, &ci, &enc);
+        if (rv != EXR_ERR_SUCCESS) break;
+        for (int c = 0; c < enc.channel_count; c++) {
+            int ic = find_channel(img, names, enc.channels[c].channel_name);
+            size_t off = ((size_t)y * img->width) * img->channels + (size_t)ic;
+            enc.channels[c].encode_from_ptr = (const uint8_t *)(img->data + off);
+            enc.channels[c].user_pixel_stride = stride;
+            enc.channels[c].user_line_stride = stride * img->width;
+            enc.channels[c].user_data_type = EXR_PIXEL_FLOAT;
+            enc.channels[c].user_bytes_per_element = 4;
+        }
+        if (!inited) rv = exr_encoding_choose_default_routines(ctxt, part, &enc);
+        inited = true;
+        if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctxt, part, &enc);
+    }
+    if (inited) exr_encoding_destroy(ctxt, &enc);
+    return rv;
+}
+
+pg_status pg_exr_write_parts(const char *path, int n, const char *const *part_names,
+                             const pg_image *imgs, const char **channel_names, pg_error *err) {
+    exr_msg m = {{0}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture_error;
+    init.user_data = &m;
+    exr_context_t ctxt = NULL;
+    /* Written directly: callers already write to a temporary name and rename. */
+    exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_IO, path, &m, rv);
+    for (int i = 0; rv == EXR_ERR_SUCCESS && i < n; i++)
+        rv = define_part(ctxt, part_names ? part_names[i] : NULL, &imgs[i], channel_names);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctxt);
+    for (int i = 0; rv == EXR_ERR_SUCCESS && i < n; i++)
+        rv = write_part_pixels(ctxt, i, &imgs[i], channel_names);
+    exr_result_t fin = exr_finish(&ctxt);
+    if (rv == EXR_ERR_SUCCESS) rv = fin;
+    if (rv != EXR_ERR_SUCCESS) {
+        remove(path);
+        return exr_fail(err, PG_ERR_IO, path, &m, rv);
+    }
+    return PG_OK;
+}
+
+pg_status pg_image_write_exr(const char *path, const pg_image *img, const char **channel_names,
+                             pg_error *err) {
+    return pg_exr_write_parts(path, 1, NULL, img, channel_names, err);
+}
+
+static exr_result_t read_pixels(exr_context_t ctxt, int part, pg_image *img,
+                                const exr_attr_chlist_t *cl) {
+    int32_t lines;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
+    exr_decode_pipeline_t dec;
+    memset(&dec, 0, sizeof dec);
+    bool inited = false;
+    int32_t stride = (int32_t)sizeof(float) * img->channels;
+    for (int y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lines) {
+        exr_chunk_info_t ci;
+        rv = exr_read_scanline_chunk_info(ctxt, part, y + 0, &ci);
+        if (rv != EXR_ERR_SUCCESS) break;
+        rv = inited ? exr_decoding_update(ctxt, part, &ci, &dec)
+                    : exr_decoding_initialize(ctxt, part, &ci, &dec);
+        if (rv != EXR_ERR_SUCCESS) break;
+        for (int c = 0; c < dec.channel_count; c++) {
+            int ic = c;
+            for (int k = 0; k < cl->num_channels; k++)
+                if (strcmp(cl->entries[k].name.str, dec.channels[c].channel_name) == 0) ic = k;
+            size_t off = ((size_t)y * img->width) * img->channels + (size_t)ic;
+            dec.channels[c].decode_to_ptr = (uint8_t *)(img->data + off);
+            dec.channels[c].user_pixel_stride = stride;
+            dec.channels[c].user_line_stride = stride * img->width;
+            dec.channels[c].user_data_type = EXR_PIXEL_FLOAT;
+            dec.channels[c].user_bytes_per_element = 4;
+        }
+        if (!inited) rv = exr_decoding_choose_default_routines(ctxt, part, &dec);
+        inited = true;
+        if (rv == EXR_ERR_SUCCESS) rv = exr_decoding_run(ctxt, part, &dec);
+    }
+    if (inited) exr_decoding_destroy(ctxt, &dec);
+    return rv;
+}
+
+static int find_part(exr_context_t ctxt, const char *want) {
+    int count = 0;
+    exr_get_count(ctxt, &count);
+    if (!want) return count > 0 ? 0 : -1;
+    for (int i = 0; i < count; i++) {
+        const char *name = NULL;
+        if (exr_get_name(ctxt, i, &name) == EXR_ERR_SUCCESS && name && !strcmp(name, want))
+            return i;
+    }
+    return -1;
+}
+
+pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out,
+                            pg_error *err) {
+    memset(out, 0, sizeof *out);
+    exr_msg m = {{0}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture_error;
+    init.user_data = &m;
+    exr_context_t ctxt = NULL;
+    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
+    int part = find_part(ctxt, part_name);
+    pg_status st = PG_OK;
+    exr_attr_box2i_t dw;
+    const exr_attr_chlist_t *cl = NULL;
+    if (part < 0) {
+        st = pg_error_set(err, PG_ERR_BADINPUT, "%s: no part named '%s'", path,
+                          part_name ? part_name : "(first)");
+    } else if ((rv = exr_get_data_window(ctxt, part, &dw)) != EXR_ERR_SUCCESS ||
+               (rv = exr_get_channels(ctxt, part, &cl)) != EXR_ERR_SUCCESS) {
+        st = exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
+    } else {
+        int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        if (w <= 0 || h <= 0 || (uint64_t)w * (uint64_t)h > PG_IMAGE_DEFAULT_MAX_PIXELS)
+            st = pg_error_set(err, PG_ERR_BADINPUT, "%s: absurd data window %dx%d", path, w, h);
+        else
+            st = pg_image_alloc(out, w, h, cl->num_channels, err);
+        if (st == PG_OK && (rv = read_pixels(ctxt, part, out, cl)) != EXR_ERR_SUCCESS) {
+            st = exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
+            pg_image_free(out);
+        }
+        out->src_type = PG_SAMPLE_FLOAT;
+        out->unit_scale = 1.0f;
+        snprintf(out->format_name, sizeof out->format_name, "openexr");
+    }
+    exr_finish(&ctxt);
+    return st;
+}
+
+pg_status pg_exr_list_parts(const char *path, int *nparts, char (*names)[64], int max_names,
+                            pg_error *err) {
+    exr_msg m = {{0}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture_error;
+    init.user_data = &m;
+    exr_context_t ctxt = NULL;
+    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
+    exr_get_count(ctxt, nparts);
+    for (int i = 0; i < *nparts && i < max_names; i++) {
+        const char *name = NULL;
+        exr_get_name(ctxt, i, &name);
+        snprintf(names[i], 64, "%s", name ? name : "");
+    }
+    exr_finish(&ctxt);
+    return PG_OK;
+}
