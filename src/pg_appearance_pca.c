@@ -1,0 +1,274 @@
+/* pg_appearance_pca.c - appearance-space vectors of the exemplar (Lefebvre & Hoppe 2006,
+ * "Appearance-space texture synthesis", SIGGRAPH, sections 4-5) with component 1
+ * replaced by the local mean height (Gain, Marais & Strasser 2015, "Terrain sketching",
+ * and J. J. Scott's thesis digest section 1.2).
+ *
+ * For every texel and level s (spacing h = 2^s) we gather the 5x5 neighbourhood at
+ * spacing h from stack level s, each of its 25 samples [L, a, b, w*height] weighted by
+ * a Gaussian g (sigma 1.25 samples): a 100-D vector x. Component 1 is the projection of
+ * x on the unit vector e of the Gaussian weights on the height slots, so it equals
+ * |g| * (Gaussian-weighted mean of the weighted height): a local mean height in the same
+ * units as the other components, which is what makes Gain's height offsets a plain
+ * additive shift of component 1. Components 2..d are the leading principal axes of the
+ * covariance of x restricted to the complement of e (P C P, P = I - e e^T), so they are
+ * orthogonal to component 1 and describe everything but the local mean height.
+ *
+ * Why it works: appearance-space distances between 8-D vectors approximate distances
+ * between whole 5x5 neighbourhoods (LH2006 show that 8 components of a 5x5 transform
+ * keep nearly all the energy), so synthesis can compare 4 diagonal 8-D vectors instead
+ * of 25 raw samples.
+ *
+ * Determinism: covariance sums are accumulated per fixed chunk and reduced in chunk
+ * order, so the basis does not depend on the thread count. The eigenvectors come from a
+ * cyclic Jacobi iteration on the 100 x 100 matrix, with a sign convention (largest
+ * |entry| positive). A constant exemplar has zero total variance: BADINPUT. */
+#include "pg_synth_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SIGMA 1.25
+
+const float *pg_appearance_weights(void) {
+    /* exp(-(i^2 + j^2) / (2 sigma^2)), sigma = 1.25, for i, j in -2..2 */
+    static const float g[25] = {0.07730474f, 0.20189652f, 0.27803730f, 0.20189652f, 0.07730474f,
+                                0.20189652f, 0.52729242f, 0.72614904f, 0.52729242f, 0.20189652f,
+                                0.27803730f, 0.72614904f, 1.00000000f, 0.72614904f, 0.27803730f,
+                                0.20189652f, 0.52729242f, 0.72614904f, 0.52729242f, 0.20189652f,
+                                0.07730474f, 0.20189652f, 0.27803730f, 0.20189652f, 0.07730474f};
+    return g;
+}
+
+void pg_appearance_gather(const pg_synth_faces *f, int face, int x, int y, int h, float *raw) {
+    const float *g = pg_appearance_weights();
+    for (int j = -2; j <= 2; j++)
+        for (int i = -2; i <= 2; i++) {
+            const float *p = pg_synth_faces_at(f, face, x + i * h, y + j * h);
+            int k = (j + 2) * 5 + (i + 2);
+            for (int c = 0; c < PG_SYNTH_CH; c++)
+                raw[k * PG_SYNTH_CH + c] = g[k] * p[c];
+        }
+}
+
+void pg_appearance_project(const pg_synth_exemplar *ex, int scale, const float *raw, float *comps) {
+    const float *e = ex->pca_basis[scale][0];
+    const float *mean = ex->pca_mean[scale];
+    float c0 = 0;
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        c0 += e[i] * raw[i];
+    comps[0] = c0;
+    float centred[PG_SYNTH_RAW];
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        centred[i] = raw[i] - mean[i];
+    for (int c = 1; c < ex->dims; c++) {
+        const float *b = ex->pca_basis[scale][c];
+        float acc = 0;
+        for (int i = 0; i < PG_SYNTH_RAW; i++)
+            acc += b[i] * centred[i];
+        comps[c] = acc;
+    }
+}
+
+/* ---- covariance over a strided sample of texels, deterministic chunked sums ---- */
+
+typedef struct cov_acc {
+    double sum[PG_SYNTH_RAW];
+    double cross[PG_SYNTH_RAW * PG_SYNTH_RAW];
+    double n;
+} cov_acc;
+
+static void accumulate_row(const pg_synth_faces *f, int face, int y, int h, int stride,
+                           cov_acc *a) {
+    float raw[PG_SYNTH_RAW];
+    for (int x = (y / stride) % stride; x < f->size; x += stride) {
+        pg_appearance_gather(f, face, x, y, h, raw);
+        for (int i = 0; i < PG_SYNTH_RAW; i++) {
+            a->sum[i] += raw[i];
+            double ri = raw[i];
+            double *row = a->cross + (size_t)i * PG_SYNTH_RAW;
+            for (int j = i; j < PG_SYNTH_RAW; j++)
+                row[j] += ri * raw[j];
+        }
+        a->n += 1;
+    }
+}
+
+static pg_status covariance(const pg_synth_faces *f, int h, double *mean, double *cov,
+                            pg_error *err) {
+    const int stride = f->size >= 256 ? 8 : (f->size >= 64 ? 4 : 1);
+    const int rows_per_face = (f->size + stride - 1) / stride;
+    const int nchunks = f->nfaces * rows_per_face;
+    cov_acc *acc = calloc((size_t)nchunks, sizeof *acc);
+    if (!acc) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int c = 0; c < nchunks; c++)
+        accumulate_row(f, c / rows_per_face, (c % rows_per_face) * stride, h, stride, &acc[c]);
+    double n = 0;
+    memset(mean, 0, sizeof(double) * PG_SYNTH_RAW);
+    memset(cov, 0, sizeof(double) * PG_SYNTH_RAW * PG_SYNTH_RAW);
+    for (int c = 0; c < nchunks; c++) { /* fixed order: thread-count independent */
+        n += acc[c].n;
+        for (int i = 0; i < PG_SYNTH_RAW; i++)
+            mean[i] += acc[c].sum[i];
+        for (int i = 0; i < PG_SYNTH_RAW * PG_SYNTH_RAW; i++)
+            cov[i] += acc[c].cross[i];
+    }
+    free(acc);
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        mean[i] /= n;
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        for (int j = i; j < PG_SYNTH_RAW; j++) {
+            double v = cov[i * PG_SYNTH_RAW + j] / n - mean[i] * mean[j];
+            cov[i * PG_SYNTH_RAW + j] = cov[j * PG_SYNTH_RAW + i] = v;
+        }
+    return PG_OK;
+}
+
+/* ---- cyclic Jacobi eigen-decomposition of a symmetric n x n matrix ---- */
+
+static void jacobi_rotate(double *a, double *v, int n, int p, int q) {
+    double apq = a[p * n + q];
+    if (fabs(apq) < 1e-300) return;
+    double theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
+    double t = (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
+    double c = 1 / sqrt(t * t + 1), s = t * c;
+    for (int k = 0; k < n; k++) { /* columns p, q */
+        double akp = a[k * n + p], akq = a[k * n + q];
+        a[k * n + p] = c * akp - s * akq;
+        a[k * n + q] = s * akp + c * akq;
+    }
+    for (int k = 0; k < n; k++) { /* rows p, q */
+        double apk = a[p * n + k], aqk = a[q * n + k];
+        a[p * n + k] = c * apk - s * aqk;
+        a[q * n + k] = s * apk + c * aqk;
+    }
+    for (int k = 0; k < n; k++) {
+        double vkp = v[k * n + p], vkq = v[k * n + q];
+        v[k * n + p] = c * vkp - s * vkq;
+        v[k * n + q] = s * vkp + c * vkq;
+    }
+}
+
+static void jacobi_eigen(double *a, double *v, int n) {
+    for (int i = 0; i < n * n; i++)
+        v[i] = 0;
+    for (int i = 0; i < n; i++)
+        v[i * n + i] = 1;
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = 0, diag = 0;
+        for (int i = 0; i < n; i++) {
+            diag += a[i * n + i] * a[i * n + i];
+            for (int j = i + 1; j < n; j++)
+                off += a[i * n + j] * a[i * n + j];
+        }
+        if (off <= 1e-22 * diag || off == 0) break;
+        for (int p = 0; p < n; p++)
+            for (int q = p + 1; q < n; q++)
+                jacobi_rotate(a, v, n, p, q);
+    }
+}
+
+/* Leading eigenvectors of P C P into ex->pca_basis[scale][1..dims-1]. */
+static void principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, int scale) {
+    const int n = PG_SYNTH_RAW;
+    double *pc = malloc(sizeof(double) * n * n * 2), *vec = pc + n * n;
+    double ce[PG_SYNTH_RAW], ece = 0;
+    for (int i = 0; i < n; i++) {
+        ce[i] = 0;
+        for (int j = 0; j < n; j++)
+            ce[i] += cov[i * n + j] * e[j];
+    }
+    for (int i = 0; i < n; i++)
+        ece += e[i] * ce[i];
+    for (int i = 0; i < n; i++) /* P C P = C - e ce^T - ce e^T + (e^T C e) e e^T */
+        for (int j = 0; j < n; j++)
+            pc[i * n + j] = cov[i * n + j] - e[i] * ce[j] - ce[i] * e[j] + ece * e[i] * e[j];
+    jacobi_eigen(pc, vec, n);
+    int used[PG_SYNTH_RAW] = {0};
+    for (int c = 1; c < ex->dims; c++) {
+        int best = -1;
+        for (int i = 0; i < n; i++)
+            if (!used[i] && (best < 0 || pc[i * n + i] > pc[best * n + best])) best = i;
+        used[best] = 1;
+        int big = 0;
+        for (int k = 1; k < n; k++)
+            if (fabs(vec[k * n + best]) > fabs(vec[big * n + best])) big = k;
+        double sign = vec[big * n + best] < 0 ? -1 : 1;
+        for (int k = 0; k < n; k++)
+            ex->pca_basis[scale][c][k] = (float)(sign * vec[k * n + best]);
+    }
+    free(pc);
+}
+
+static void project_all(const pg_synth_faces *f, pg_synth_exemplar *ex, int scale, float *out) {
+    const int E = f->size, h = 1 << scale;
+#pragma omp parallel for schedule(dynamic, 4) collapse(2)
+    for (int face = 0; face < f->nfaces; face++)
+        for (int y = 0; y < E; y++) {
+            float raw[PG_SYNTH_RAW];
+            for (int x = 0; x < E; x++) {
+                pg_appearance_gather(f, face, x, y, h, raw);
+                size_t t = ((size_t)face * E + y) * E + x;
+                pg_appearance_project(ex, scale, raw, out + t * PG_SYNTH_MAX_DIMS);
+            }
+        }
+}
+
+static void quantize(pg_synth_exemplar *ex, int scale, const float *vals, size_t n) {
+    float mx = 1e-12f;
+    for (size_t i = 0; i < n * PG_SYNTH_MAX_DIMS; i++) {
+        float a = fabsf(vals[i]);
+        if (a > mx) mx = a;
+    }
+    float q = 32000.0f / mx;
+    ex->app_scale[scale] = 1.0f / q;
+    int16_t *dst = ex->app[scale];
+    for (size_t i = 0; i < n * PG_SYNTH_MAX_DIMS; i++)
+        dst[i] = (int16_t)lrintf(vals[i] * q);
+}
+
+pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_exemplar *ex,
+                                  pg_error *err) {
+    const float *g = pg_appearance_weights();
+    float *e = ex->pca_basis[scale][0];
+    double gn = 0;
+    for (int k = 0; k < PG_SYNTH_NB; k++)
+        gn += (double)g[k] * g[k];
+    gn = sqrt(gn);
+    memset(e, 0, sizeof(float) * PG_SYNTH_RAW);
+    for (int k = 0; k < PG_SYNTH_NB; k++)
+        e[k * PG_SYNTH_CH + 3] = (float)(g[k] / gn);
+    ex->metres_to_app = (float)(gn * ex->lab_height_scale);
+
+    double *mean = malloc(sizeof(double) * (PG_SYNTH_RAW + PG_SYNTH_RAW * PG_SYNTH_RAW));
+    if (!mean) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
+    double *cov = mean + PG_SYNTH_RAW;
+    pg_status st = covariance(f, 1 << scale, mean, cov, err);
+    if (st) {
+        free(mean);
+        return st;
+    }
+    double trace = 0;
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        trace += cov[i * PG_SYNTH_RAW + i];
+    if (!(trace > 1e-6)) {
+        free(mean);
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "exemplar: appearance-space PCA is degenerate (total variance %.3g "
+                            "at level %d): the exemplar is constant",
+                            trace, scale);
+    }
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        ex->pca_mean[scale][i] = (float)mean[i];
+    principal_axes(cov, e, ex, scale);
+    free(mean);
+
+    size_t n = (size_t)f->nfaces * f->size * f->size;
+    float *vals = calloc(n * PG_SYNTH_MAX_DIMS, sizeof(float));
+    if (!vals) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
+    project_all(f, ex, scale, vals);
+    quantize(ex, scale, vals, n);
+    free(vals);
+    return PG_OK;
+}

@@ -1,0 +1,176 @@
+/* pg_kcoherence_patchmatch.c - the k-coherence candidate table (Tong et al. 2002,
+ * "Synthesis of bidirectional texture functions on arbitrary surfaces"; used by
+ * Lefebvre & Hoppe 2005 section 3.4 with k = 2), built by PatchMatch (Barnes,
+ * Shechtman, Finkelstein & Goldman 2009, "PatchMatch: a randomized correspondence
+ * algorithm for structural image editing").
+ *
+ * For every exemplar texel t and level s we want the k-1 texels whose appearance vectors
+ * (pg_appearance_pca.c) are nearest to t's, each at least min_separation * E away from
+ * t and from each other (Zelinka & Garland 2002), so that a candidate is a genuine
+ * alternative and not t's own neighbour. Texels on different faces count as far apart.
+ *
+ * PatchMatch exploits coherence: if t's match is m, t+o's match is likely m+o. Each
+ * iteration scans a face in scanline order (reversed on odd iterations), trying for
+ * every texel (1) propagation: the entries of the two already-visited neighbours,
+ * shifted by one texel; (2) random search: samples around the current best in windows
+ * halving from E down to 1 texel, plus one uniform sample from any face. Random numbers
+ * are hashes of (seed, scale, face, x, y, iteration, step).
+ *
+ * Determinism: a face's scan reads and writes only that face's table (other data is
+ * read-only), so faces run in parallel with identical results for any thread count. */
+#include "pg_synth_internal.h"
+
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define KMAX (PG_SYNTH_MAX_K - 1)
+
+typedef struct pm_ctx {
+    const pg_synth_exemplar *ex;
+    int scale, kk, E, sep2;
+    uint64_t seed;
+    uint32_t *table; /* kk entries per texel */
+    int32_t *dist;   /* kk distances per texel */
+} pm_ctx;
+
+static int32_t app_dist(const pm_ctx *c, size_t ta, size_t tb) {
+    const int16_t *a = c->ex->app[c->scale] + ta * PG_SYNTH_MAX_DIMS;
+    const int16_t *b = c->ex->app[c->scale] + tb * PG_SYNTH_MAX_DIMS;
+    int64_t d = 0;
+    for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++) {
+        int32_t x = (int32_t)a[i] - b[i];
+        d += (int64_t)x * x;
+    }
+    return d > INT_MAX ? INT_MAX : (int32_t)d;
+}
+
+static int too_close(const pm_ctx *c, uint32_t a, uint32_t b) {
+    if (pg_synth_face(a) != pg_synth_face(b)) return 0;
+    int du = pg_synth_u(a) - pg_synth_u(b), dv = pg_synth_v(a) - pg_synth_v(b);
+    if (c->ex->torus) { /* wrapped distance */
+        du = abs(du);
+        dv = abs(dv);
+        if (du > c->E / 2) du = c->E - du;
+        if (dv > c->E / 2) dv = c->E - dv;
+    }
+    return du * du + dv * dv < c->sep2;
+}
+
+/* Offer candidate m to texel t's sorted list (coord self). */
+static void offer(const pm_ctx *c, uint32_t self, size_t t, uint32_t m) {
+    if (too_close(c, self, m)) return;
+    uint32_t *e = c->table + t * c->kk;
+    int32_t *d = c->dist + t * c->kk;
+    for (int i = 0; i < c->kk; i++)
+        if (e[i] == m) return;
+    int32_t dm = app_dist(c, t, pg_synth_texel(c->ex, m));
+    int slot = c->kk - 1; /* replace the worst, or a near-duplicate that is worse */
+    for (int i = 0; i < c->kk; i++)
+        if (too_close(c, e[i], m)) {
+            slot = i;
+            break;
+        }
+    if (dm >= d[slot]) return;
+    e[slot] = m;
+    d[slot] = dm;
+    for (int i = slot; i > 0 && d[i] < d[i - 1]; i--) { /* keep sorted */
+        int32_t td = d[i];
+        d[i] = d[i - 1];
+        d[i - 1] = td;
+        uint32_t te = e[i];
+        e[i] = e[i - 1];
+        e[i - 1] = te;
+    }
+}
+
+static uint32_t random_coord(const pm_ctx *c, int face, int x, int y, int salt) {
+    uint32_t h1 = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
+    uint32_t h2 = pg_synth_hash(c->seed, c->scale, face, x, y, salt + 1);
+    int f = (int)(h1 % (uint32_t)c->ex->nfaces);
+    return pg_synth_pack(f, (int)((h1 >> 8) % (uint32_t)c->E), (int)(h2 % (uint32_t)c->E));
+}
+
+static void init_face(pm_ctx *c, int face) {
+    const int E = c->E;
+    for (int y = 0; y < E; y++)
+        for (int x = 0; x < E; x++) {
+            size_t t = ((size_t)face * E + y) * E + x;
+            uint32_t self = pg_synth_pack(face, x, y);
+            for (int i = 0; i < c->kk; i++) {
+                c->table[t * c->kk + i] = self; /* placeholder: infinitely bad */
+                c->dist[t * c->kk + i] = INT_MAX;
+            }
+            for (int a = 0; a < 4 * c->kk; a++)
+                offer(c, self, t, random_coord(c, face, x, y, a * 2));
+        }
+}
+
+static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
+    const int E = c->E;
+    size_t t = ((size_t)face * E + y) * E + x;
+    uint32_t self = pg_synth_pack(face, x, y);
+    /* propagation from the visited neighbours at (x - dir, y) and (x, y - dir) */
+    for (int n = 0; n < 2; n++) {
+        int nx = x - (n == 0 ? dir : 0), ny = y - (n == 1 ? dir : 0);
+        if (!c->ex->torus && (nx < 0 || ny < 0 || nx >= E || ny >= E)) continue;
+        nx &= E - 1;
+        ny &= E - 1;
+        const uint32_t *ne = c->table + (((size_t)face * E + ny) * E + nx) * c->kk;
+        for (int i = 0; i < c->kk; i++) {
+            if (ne[i] == pg_synth_pack(face, nx, ny)) continue; /* placeholder */
+            offer(c, self, t, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
+        }
+    }
+    /* random search around the current best, windows halving */
+    int salt = 1000 + it * 100;
+    for (int r = E / 2; r >= 1; r /= 2, salt += 2) {
+        uint32_t b = c->table[t * c->kk];
+        uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
+        int du = (int)(h & 0xffff) % (2 * r + 1) - r, dv = (int)(h >> 16) % (2 * r + 1) - r;
+        offer(c, self, t, pg_synth_offset(c->ex, b, du, dv));
+    }
+    offer(c, self, t, random_coord(c, face, x, y, salt));
+}
+
+static void scan_face(pm_ctx *c, int face, int it) {
+    const int E = c->E;
+    if (it % 2 == 0) {
+        for (int y = 0; y < E; y++)
+            for (int x = 0; x < E; x++)
+                visit(c, face, x, y, it, 1);
+    } else {
+        for (int y = E - 1; y >= 0; y--)
+            for (int x = E - 1; x >= 0; x--)
+                visit(c, face, x, y, it, -1);
+    }
+}
+
+pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, int iters,
+                              double min_separation, pg_error *err) {
+    pm_ctx c = {.ex = ex, .scale = scale, .kk = ex->k - 1, .E = ex->face_size, .seed = seed};
+    if (c.kk <= 0) return PG_OK;
+    int sep = (int)(min_separation * ex->face_size + 0.999);
+    c.sep2 = sep * sep;
+    size_t n = (size_t)ex->nfaces * ex->face_size * ex->face_size;
+    c.table = ex->kcoh[scale];
+    c.dist = malloc(n * c.kk * sizeof(int32_t));
+    if (!c.dist) return pg_error_set(err, PG_ERR_NOMEM, "k-coherence: out of memory");
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int face = 0; face < ex->nfaces; face++) {
+        init_face(&c, face);
+        for (int it = 0; it < iters; it++)
+            scan_face(&c, face, it);
+    }
+    /* a texel left with a placeholder (tiny exemplars only) gets any far texel */
+    for (size_t t = 0; t < n * c.kk; t++)
+        if (c.dist[t] == INT_MAX) {
+            size_t tex = t / c.kk;
+            int face = (int)(tex / ((size_t)c.E * c.E));
+            int rem = (int)(tex % ((size_t)c.E * c.E));
+            c.table[t] =
+                pg_synth_offset(ex, pg_synth_pack(face, rem % c.E, rem / c.E), c.E / 2, c.E / 2);
+        }
+    free(c.dist);
+    return PG_OK;
+}

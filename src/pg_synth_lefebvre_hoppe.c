@@ -1,0 +1,289 @@
+/* pg_synth_lefebvre_hoppe.c - the per-level operations of parallel texture synthesis
+ * (Lefebvre & Hoppe 2005, "Parallel controllable texture synthesis", SIGGRAPH;
+ * Lefebvre & Hoppe 2006, "Appearance-space texture synthesis", SIGGRAPH) with the height
+ * offsets of Gain, Marais & Strasser 2015 ("Terrain sketching", I3D).
+ *
+ * The synthesized level S_s holds exemplar coordinates; h = 2^s is the exemplar spacing
+ * of one output texel at scale s.
+ *  - upsample: S_s[2p + d] = S_{s+1}[p] + floor(h (d - 1/2)), V copied (LH2005 eq. 1);
+ *  - jitter:   S_s[p] += floor(h H(p) r + 1/2), H a hash of (seed, s, face, x, y) in
+ *              [-1, 1]^2 (LH2005 eq. 2);
+ *  - correct:  for each texel of one 2x2 parity class, the target neighbourhood N_S(p)
+ *              is the appearance at the 4 diagonal positions p + D, each predicted from
+ *              the 3 synthesized texels adjacent to it, p + e for e in {D, (Dx,0),
+ *              (0,Dy)}, as A(S[p+e] + h (D - e)) (LH2006 section 5, "reduced runtime
+ *              neighbourhood"). Candidates are the coherent ones S[p+e] - h e for e in
+ *              the 3x3 neighbourhood and their k-coherence entries (LH2005 section 3.4;
+ *              those cost (1 + kappa) times more: the jump penalty). For each candidate
+ *              q the offset hq = mean over D of (N_S,1 - A_1(q + hD)) is the best shift
+ *              of component 1, the local mean height (Gain et al.); the candidate's
+ *              distance uses component 1 shifted by hq. The winner sets S[p] = q and
+ *              V[p] = hq (replaced, not accumulated).
+ *
+ * Why sub-passes are order-independent: a texel of parity class c reads only texels of
+ * other classes and its own (incumbent) value, and writes only itself; so every
+ * texel's result is a function of the state before the sub-pass. Tiles, threads and
+ * scan order cannot change it. Halo texels across a cube seam carry an orientation:
+ * offsets into them are rotated into their frame (the seam rotation of issue 5).
+ * Ties keep the incumbent, then the earliest candidate, so results are exact. */
+#include "pg_synth_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+const int pg_synth_subpass_order[4] = {0, 3, 1, 2}; /* (0,0), (1,1), (1,0), (0,1) */
+
+static inline uint64_t mix64(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+uint32_t pg_synth_hash(uint64_t seed, int scale, int face, long x, long y, int salt) {
+    uint64_t h = mix64(seed + 0x9e3779b97f4a7c15ULL);
+    h = mix64(h ^ ((uint64_t)(uint32_t)scale << 40) ^ ((uint64_t)(uint32_t)face << 32) ^
+              (uint32_t)salt);
+    h = mix64(h ^ (uint64_t)x);
+    h = mix64(h ^ ((uint64_t)y * 0xd6e8feb86659fd93ULL));
+    return (uint32_t)(h >> 32);
+}
+
+uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
+    const int E = ex->face_size;
+    int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
+    if (ex->torus) {
+        u &= E - 1;
+        v &= E - 1;
+    } else {
+        u = u < 0 ? 0 : (u >= E ? E - 1 : u);
+        v = v < 0 ? 0 : (v >= E ? E - 1 : v);
+    }
+    return pg_synth_pack(pg_synth_face(c), u, v);
+}
+
+void pg_synth_orient_apply(int o, int *dx, int *dy) {
+    int x = *dx, y = *dy;
+    if (o & 4) x = -x;
+    for (int r = 0; r < (o & 3); r++) {
+        int t = x;
+        x = -y;
+        y = t;
+    }
+    *dx = x;
+    *dy = y;
+}
+
+void pg_synth_params_default(pg_synth_params *p) {
+    memset(p, 0, sizeof *p);
+    p->seed = 1;
+    p->jitter = 0.4;
+    for (int i = 0; i < PG_SYNTH_MAX_LEVELS + 8; i++)
+        p->jitter_level[i] = -1;
+    p->passes = 2;
+    p->kappa = 0.1;
+    p->height_offsets = true;
+    p->tile_size = 0;
+}
+
+double pg_synth_jitter_for(const pg_synth_params *p, int scale) {
+    if (scale >= 0 && scale < PG_SYNTH_MAX_LEVELS + 8 && p->jitter_level[scale] >= 0)
+        return p->jitter_level[scale];
+    return p->jitter;
+}
+
+void pg_synth_upsample(const pg_synth_exemplar *ex, int scale, const pg_synth_view *parent,
+                       pg_synth_view *child) {
+    const int h = 1 << scale;
+    const int lo = h >= 2 ? -h / 2 : -1, hi = h >= 2 ? h / 2 : 0; /* floor(h (d - 1/2)) */
+#pragma omp parallel for schedule(static) if (parent->w * parent->h >= 4096)
+    for (int y = 0; y < parent->h; y++)
+        for (int x = 0; x < parent->w; x++) {
+            uint32_t c = parent->S[y * parent->stride + x];
+            float vv = parent->V[y * parent->stride + x];
+            for (int dy = 0; dy < 2; dy++)
+                for (int dx = 0; dx < 2; dx++) {
+                    ptrdiff_t i = (2 * y + dy) * child->stride + 2 * x + dx;
+                    child->S[i] = pg_synth_offset(ex, c, dx ? hi : lo, dy ? hi : lo);
+                    child->V[i] = vv;
+                }
+        }
+}
+
+void pg_synth_jitter(const pg_synth_exemplar *ex, int scale, double r, uint64_t seed,
+                     pg_synth_view *v) {
+    if (r <= 0) return;
+    const double hr = (double)(1 << scale) * r;
+#pragma omp parallel for schedule(static) if (v->w * v->h >= 4096)
+    for (int y = 0; y < v->h; y++)
+        for (int x = 0; x < v->w; x++) {
+            long gx = v->gx + x, gy = v->gy + y;
+            double hx = pg_synth_hash(seed, scale, v->face, gx, gy, 0) * (2.0 / 4294967296.0) - 1;
+            double hy = pg_synth_hash(seed, scale, v->face, gx, gy, 1) * (2.0 / 4294967296.0) - 1;
+            int jx = (int)floor(hr * hx + 0.5), jy = (int)floor(hr * hy + 0.5);
+            uint32_t *s = &v->S[y * v->stride + x];
+            *s = pg_synth_offset(ex, *s, jx, jy);
+        }
+}
+
+/* ---------------------------------- correction ---------------------------------- */
+
+#define NCAND_MAX (9 * PG_SYNTH_MAX_K)
+#define ND 4 /* diagonal neighbours */
+
+static const int diag[ND][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+
+typedef struct corr_ctx {
+    const pg_synth_exemplar *ex;
+    const int16_t *A;
+    const uint32_t *K;
+    int kk, h, dims;
+    float m2q;   /* metres -> quantized appearance units of component 1 */
+    float kappa; /* jump penalty factor - 1 */
+    bool offsets;
+} corr_ctx;
+
+static inline const int16_t *app_at(const corr_ctx *c, uint32_t q) {
+    return c->A + pg_synth_texel(c->ex, q) * PG_SYNTH_MAX_DIMS;
+}
+
+/* The 3x3 neighbourhood of a texel as seen from the view: coordinates, offsets,
+ * orientations. Index (dy + 1) * 3 + (dx + 1). */
+typedef struct nbhd {
+    uint32_t S[9];
+    float V[9];
+    uint8_t o[9];
+} nbhd;
+
+static void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            ptrdiff_t i = (ptrdiff_t)(y + dy) * v->stride + (x + dx);
+            int k = (dy + 1) * 3 + (dx + 1);
+            n->S[k] = v->S[i];
+            n->V[k] = v->V[i];
+            n->o[k] = v->orient ? v->orient[i] : 0;
+        }
+}
+
+/* Coordinate of the texel at e (in the view frame) moved by h * (ox, oy) in the view
+ * frame: the offset is rotated into that texel's frame first. */
+static inline uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox, int oy) {
+    int k = (ey + 1) * 3 + (ex + 1);
+    if (n->o[k]) pg_synth_orient_apply(n->o[k], &ox, &oy);
+    return pg_synth_offset(c->ex, n->S[k], c->h * ox, c->h * oy);
+}
+
+/* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
+static void target_nbhd(const corr_ctx *c, const nbhd *n, float ns[ND][PG_SYNTH_MAX_DIMS]) {
+    for (int d = 0; d < ND; d++) {
+        const int Dx = diag[d][0], Dy = diag[d][1];
+        const int es[3][2] = {{Dx, Dy}, {Dx, 0}, {0, Dy}};
+        float acc[PG_SYNTH_MAX_DIMS] = {0};
+        for (int j = 0; j < 3; j++) {
+            int ex = es[j][0], ey = es[j][1];
+            uint32_t q = move_from(c, n, ex, ey, Dx - ex, Dy - ey);
+            const int16_t *a = app_at(c, q);
+            for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+                acc[i] += a[i];
+            acc[0] += n->V[(ey + 1) * 3 + (ex + 1)] * c->m2q;
+        }
+        for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+            ns[d][i] = acc[i] * (1.0f / 3.0f);
+    }
+}
+
+typedef struct cand_list {
+    uint32_t q[NCAND_MAX];
+    float pen[NCAND_MAX];
+    int n;
+} cand_list;
+
+static void add_cand(cand_list *l, uint32_t q, float pen) {
+    for (int i = 0; i < l->n; i++)
+        if (l->q[i] == q) {
+            if (pen < l->pen[i]) l->pen[i] = pen;
+            return;
+        }
+    l->q[l->n] = q;
+    l->pen[l->n++] = pen;
+}
+
+static void gather_candidates(const corr_ctx *c, const nbhd *n, cand_list *l) {
+    static const int order[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                    {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+    l->n = 0;
+    for (int i = 0; i < 9; i++) {
+        int ex = order[i][0], ey = order[i][1];
+        uint32_t q0 = move_from(c, n, ex, ey, -ex, -ey); /* coherent: S[p+e] - h e */
+        add_cand(l, q0, 1.0f);
+        const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0) * c->kk : NULL;
+        for (int j = 0; j < c->kk; j++)
+            add_cand(l, kc[j], 1.0f + c->kappa);
+    }
+}
+
+/* Distance of candidate q to the target, with its best height offset in *hoff. */
+static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], uint32_t q,
+                       float *hoff) {
+    float d1[ND], rest = 0, mean = 0;
+    for (int d = 0; d < ND; d++) {
+        const int16_t *a =
+            app_at(c, pg_synth_offset(c->ex, q, c->h * diag[d][0], c->h * diag[d][1]));
+        d1[d] = ns[d][0] - a[0];
+        mean += d1[d];
+        for (int i = 1; i < c->dims; i++) {
+            float t = ns[d][i] - a[i];
+            rest += t * t;
+        }
+    }
+    mean = c->offsets ? mean * (1.0f / ND) : 0.0f;
+    float first = 0;
+    for (int d = 0; d < ND; d++)
+        first += (d1[d] - mean) * (d1[d] - mean);
+    *hoff = mean;
+    return first + rest;
+}
+
+static void correct_texel(const corr_ctx *c, const pg_synth_view *v, int x, int y) {
+    nbhd n;
+    load_nbhd(v, x, y, &n);
+    float ns[ND][PG_SYNTH_MAX_DIMS];
+    target_nbhd(c, &n, ns);
+    cand_list l;
+    gather_candidates(c, &n, &l);
+    uint32_t best = l.q[0];
+    float best_h = 0, best_d = 0;
+    for (int i = 0; i < l.n; i++) {
+        float hq, d = cand_dist(c, ns, l.q[i], &hq) * l.pen[i];
+        if (i == 0 || d < best_d) {
+            best = l.q[i];
+            best_d = d;
+            best_h = hq;
+        }
+    }
+    ptrdiff_t at = (ptrdiff_t)y * v->stride + x;
+    v->S[at] = best;
+    v->V[at] = best_h / c->m2q;
+}
+
+void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_synth_params *p,
+                              int parity, pg_synth_view *v) {
+    if (scale < 0 || scale >= ex->levels) return;
+    corr_ctx c = {.ex = ex,
+                  .A = ex->app[scale],
+                  .K = ex->k > 1 ? ex->kcoh[scale] : NULL,
+                  .kk = ex->k - 1,
+                  .h = 1 << scale,
+                  .dims = ex->dims,
+                  .m2q = ex->metres_to_app / ex->app_scale[scale],
+                  .kappa = (float)p->kappa,
+                  .offsets = p->height_offsets};
+    const int px = parity & 1, py = parity >> 1;
+#pragma omp parallel for schedule(dynamic, 4) if (v->w * v->h >= 16384)
+    for (int y = 0; y < v->h; y++) {
+        if ((int)((v->gy + y) & 1) != py) continue;
+        int x0 = (int)((v->gx & 1) != px);
+        for (int x = x0; x < v->w; x += 2)
+            correct_texel(&c, v, x, y);
+    }
+}
