@@ -5,6 +5,7 @@
 #include "pg_cli.h"
 
 int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv);
+int pg_cmd_synth(pg_cli *cli, int argc, char **argv);
 int pg_cmd_grid(pg_cli *cli, int argc, char **argv);
 
 #endif
