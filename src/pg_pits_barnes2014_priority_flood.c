@@ -1,0 +1,65 @@
+/* pg_pits_barnes2014_priority_flood.c - depression filling by "Improved Priority-Flood".
+ *
+ * Source: R. Barnes, C. Lehman, D. Mulla (2014), "Priority-Flood: An optimal
+ * depression-filling and watershed-labeling algorithm for digital elevation models",
+ * Computers & Geosciences 62:117-127, Algorithm 2 (improved, plain FIFO for cells in
+ * pits) and Algorithm 3 (the epsilon variant); as used by Scott & Dodgson 2021 §3.1.
+ *
+ * Idea: flood the terrain from the sinks inwards in order of height. The priority
+ * queue always yields the lowest cell c on the boundary of the flooded (closed)
+ * region, so c's height is the lowest level at which water from an unvisited
+ * neighbour n could leave through c. If n is not higher than c, n lies in a pit: it
+ * is raised to c's height (epsilon: to the next float above it) and, since every
+ * cell it reaches next is then at that same spill level, it goes to a plain FIFO
+ * instead of the heap - the "improved" part, which removes the log factor for cells
+ * inside pits.
+ *
+ * Preconditions: pits_begin has marked the sinks and queued the sinks touching
+ * non-sinks; no NaN heights (no-data is -inf by then).
+ * Why it is correct: by induction over the pop order, every closed cell has a
+ * non-ascending path to a sink through closed cells (strictly descending with
+ * epsilon, because n is set to nextafter(h[c]) > h[c] and h[c] is final when c is
+ * popped). Plain fill is the minimal such surface: a cell is raised only to the
+ * lowest spill height through which its region connects to a sink (Barnes et al.,
+ * Theorem 1), which the exact-fill test checks against a slow iterative reference.
+ * Ties pop in (height, id) order, so the epsilon result is deterministic. */
+#include "pg_pits_internal.h"
+
+#include <stdlib.h>
+
+pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                         pg_pits_result *res, pg_error *err) {
+    pits_heap q = {0};
+    pits_fifo pit = {0};
+    uint8_t *st = NULL;
+    uint64_t nsinks = 0;
+    pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
+    if (s) return s;
+    const int eps = o->epsilon;
+    uint32_t nb[8];
+    while (q.n || !pits_fifo_empty(&pit)) {
+        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(&q));
+        float hc = st[c] == PITS_CLOSED ? h[c] : -INFINITY; /* sinks: outlets */
+        int k = pg_pits_neighbours(t, c, nb);
+        for (int j = 0; j < k; j++) {
+            uint32_t n = nb[j];
+            if (st[n] != PITS_OPEN) continue;
+            st[n] = PITS_CLOSED;
+            if (h[n] <= hc) {
+                h[n] = eps ? pits_up(hc) : hc;
+                pits_fifo_push(&pit, n);
+            } else {
+                pits_heap_push(&q, pits_key(h[n], n));
+            }
+        }
+        if (q.oom || pit.oom) break;
+    }
+    int oom = q.oom || pit.oom;
+    pits_heap_free(&q);
+    pits_fifo_free(&pit);
+    pits_end(t, h, o, st);
+    free(st);
+    if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory in the flood queues");
+    if (res) res->sinks = nsinks;
+    return PG_OK;
+}

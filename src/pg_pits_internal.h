@@ -1,0 +1,136 @@
+/* pg_pits_internal.h - machinery shared by the pit-removal algorithms (not public API).
+ *
+ * The flood priority is the pair (height, global id), packed into one uint64 so the
+ * heap compares plain integers: the high 32 bits are the float's bits mapped to an
+ * order-preserving unsigned integer, the low 32 bits the cell id. Equal heights
+ * therefore pop in id order, which makes every result a pure function of the input.
+ *
+ * Cell states live in one byte per cell (PITS_OPEN/CLOSED/SINK/NODATA); a sink is
+ * closed from the start and is never modified. */
+#ifndef PG_PITS_INTERNAL_H
+#define PG_PITS_INTERNAL_H
+
+#include "planetgen/pg_pits.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+enum { PITS_OPEN = 0, PITS_CLOSED = 1, PITS_SINK = 2, PITS_NODATA = 3 };
+
+static inline uint32_t pits_ord(float f) {
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+}
+
+static inline uint64_t pits_key(float h, uint32_t id) {
+    return ((uint64_t)pits_ord(h) << 32) | id;
+}
+
+static inline uint32_t pits_key_id(uint64_t k) {
+    return (uint32_t)k;
+}
+
+static inline float pits_up(float v) {
+    return nextafterf(v, INFINITY);
+}
+
+static inline float pits_down(float v) {
+    return nextafterf(v, -INFINITY);
+}
+
+/* ---- 4-ary min-heap of keys ---- */
+typedef struct pits_heap {
+    uint64_t *a;
+    size_t n, cap;
+    int oom;
+} pits_heap;
+
+void pits_heap_free(pits_heap *q);
+void pits_heap_grow(pits_heap *q);
+void pits_heap_heapify(pits_heap *q);
+
+static inline void pits_heap_push(pits_heap *q, uint64_t k) {
+    if (q->n == q->cap) {
+        pits_heap_grow(q);
+        if (q->oom) return;
+    }
+    size_t i = q->n++;
+    while (i > 0) {
+        size_t p = (i - 1) >> 2;
+        if (q->a[p] <= k) break;
+        q->a[i] = q->a[p];
+        i = p;
+    }
+    q->a[i] = k;
+}
+
+static inline uint64_t pits_heap_pop(pits_heap *q) {
+    uint64_t top = q->a[0], k = q->a[--q->n];
+    size_t n = q->n, i = 0;
+    for (;;) {
+        size_t c = 4 * i + 1;
+        if (c >= n) break;
+        size_t best = c;
+        size_t end = c + 4 < n ? c + 4 : n;
+        for (size_t j = c + 1; j < end; j++)
+            if (q->a[j] < q->a[best]) best = j;
+        if (q->a[best] >= k) break;
+        q->a[i] = q->a[best];
+        i = best;
+    }
+    if (n) q->a[i] = k;
+    return top;
+}
+
+/* ---- FIFO of ids, reset whenever it drains ---- */
+typedef struct pits_fifo {
+    uint32_t *a;
+    size_t head, tail, cap;
+    int oom;
+} pits_fifo;
+
+void pits_fifo_free(pits_fifo *f);
+void pits_fifo_grow(pits_fifo *f);
+
+static inline void pits_fifo_push(pits_fifo *f, uint32_t id) {
+    if (f->tail == f->cap) {
+        pits_fifo_grow(f);
+        if (f->oom) return;
+    }
+    f->a[f->tail++] = id;
+}
+
+static inline int pits_fifo_empty(const pits_fifo *f) {
+    return f->head == f->tail;
+}
+
+static inline uint32_t pits_fifo_pop(pits_fifo *f) {
+    uint32_t id = f->a[f->head++];
+    if (f->head == f->tail) f->head = f->tail = 0;
+    return id;
+}
+
+/* ---- the shared start of every flood ---- */
+
+/* Validates o against t, allocates state[ncells], marks sinks (sea level, lakes,
+ * open edges, no-data; else the lowest cell), replaces no-data heights by -inf and
+ * pushes every sink that touches a non-sink into the heap. */
+pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uint8_t **state,
+                     pits_heap *q, uint64_t *nsinks, pg_error *err);
+
+/* Puts the no-data value back into the cells marked PITS_NODATA. */
+void pits_end(const pg_pits_topo *t, float *h, const pg_pits_opts *o, const uint8_t *state);
+
+pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *err);
+
+/* The three algorithms; h is modified in place. */
+pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                         pg_pits_result *res, pg_error *err);
+pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                 pg_pits_result *res, pg_error *err);
+pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                  pg_pits_result *res, pg_error *err);
+
+#endif

@@ -1,0 +1,254 @@
+/* test_pits_cube.c - pit removal on the cube sphere: the seam neighbours agree with
+ * an independent geometric construction (7 at the cube corners), a depression
+ * straddling a face seam and one at a cube corner are removed by every method, a
+ * planet without ocean drains to its single lowest texel, and the Gain-pit offset
+ * update reproduces the pit-free heights. */
+#include "pg_test.h"
+#include "pits_checker.h"
+#include "planetgen/pg_cube.h"
+#include "planetgen/pg_pits.h"
+
+#include <stdio.h>
+
+/* Independent neighbours: a step off the face is taken in 3D (half-texel units,
+ * the face plane extended) and projected centrally back onto the cube. */
+static chk_graph geometric_cube_graph(int N) {
+    size_t n = 6 * (size_t)N * N;
+    chk_graph g = {n, malloc(sizeof(uint32_t) * 8 * n), calloc(n, 1)};
+    for (int f = 0; f < 6; f++) {
+        int fn[3], fu[3], fv[3];
+        pg_cube_face_frame(f, fn, fu, fv);
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                size_t id = ((size_t)f * N + y) * N + x;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int X = x + dx, Y = y + dy;
+                        int ox = X < 0 || X >= N, oy = Y < 0 || Y >= N;
+                        if ((!dx && !dy) || (ox && oy)) continue;
+                        double a = 2 * X + 1 - N, b = 2 * Y + 1 - N, p[3];
+                        for (int i = 0; i < 3; i++)
+                            p[i] = N * fn[i] + a * fu[i] + b * fv[i];
+                        int ax = 0;
+                        for (int i = 1; i < 3; i++)
+                            if (fabs(p[i]) > fabs(p[ax])) ax = i;
+                        double s = N / fabs(p[ax]);
+                        int g2 = -1, gx = 0, gy = 0;
+                        for (int k = 0; k < 6; k++) {
+                            int kn[3], ku[3], kv[3];
+                            pg_cube_face_frame(k, kn, ku, kv);
+                            if (kn[ax] * p[ax] <= 0) continue;
+                            double u = s * (p[0] * ku[0] + p[1] * ku[1] + p[2] * ku[2]);
+                            double v = s * (p[0] * kv[0] + p[1] * kv[1] + p[2] * kv[2]);
+                            g2 = k;
+                            gx = (int)floor((u + N) / 2);
+                            gy = (int)floor((v + N) / 2);
+                        }
+                        g.nb[id * 8 + g.cnt[id]++] = (uint32_t)(((size_t)g2 * N + gy) * N + gx);
+                    }
+            }
+    }
+    return g;
+}
+
+static int cmp_u32(const void *a, const void *b) {
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void test_topology_matches_geometry(void **state) {
+    (void)state;
+    int sizes[] = {2, 3, 4, 7, 16};
+    for (int s = 0; s < 5; s++) {
+        int N = sizes[s];
+        pg_pits_topo t;
+        assert_int_equal(pg_pits_topo_cube(&t, (uint32_t)N, NULL), PG_OK);
+        chk_graph g = geometric_cube_graph(N);
+        int sevens = 0;
+        for (uint32_t id = 0; id < g.n; id++) {
+            uint32_t a[8], b[8];
+            int k = pg_pits_neighbours(&t, id, a);
+            assert_int_equal(k, g.cnt[id]);
+            sevens += k == 7;
+            memcpy(b, &g.nb[(size_t)id * 8], sizeof(uint32_t) * k);
+            qsort(a, (size_t)k, 4, cmp_u32);
+            qsort(b, (size_t)k, 4, cmp_u32);
+            assert_memory_equal(a, b, sizeof(uint32_t) * k);
+            for (int j = 0; j < k; j++) {
+                assert_true(a[j] != id);
+                if (j) assert_true(a[j] != a[j - 1]);
+            }
+        }
+        assert_int_equal(sevens, 24); /* 8 cube corners x 3 faces */
+        chk_graph_free(&g);
+    }
+}
+
+/* A smooth planet rising to the north, with an ocean around the south pole. */
+static float *planet(const pg_pits_topo *t, int N) {
+    float *h = malloc(sizeof(float) * t->ncells);
+    pg_cube_grid g;
+    pg_cube_grid_init(&g, PG_CUBE_EQUIANGULAR, N, 1, NULL);
+    for (uint32_t i = 0; i < t->ncells; i++) {
+        double d[3];
+        pg_cube_texel_dir(&g, i, d);
+        h[i] = (float)(1000.0 * (d[2] + 0.8));
+    }
+    return h;
+}
+
+/* Lower every texel within `radius` (unit-sphere distance) of direction c to 10 m
+ * below its lowest rim cell: a closed basin. */
+static int dig(float *h, const pg_pits_topo *t, int N, const double c[3], double radius) {
+    pg_cube_grid g;
+    pg_cube_grid_init(&g, PG_CUBE_EQUIANGULAR, N, 1, NULL);
+    int cells = 0, faces = 0;
+    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    for (uint32_t i = 0; i < t->ncells; i++) {
+        double d[3];
+        pg_cube_texel_dir(&g, i, d);
+        double dd = 0;
+        for (int k = 0; k < 3; k++)
+            dd += (d[k] - c[k] / len) * (d[k] - c[k] / len);
+        if (sqrt(dd) < radius) {
+            h[i] = 50.0f + (float)(i % 7);
+            cells++;
+            faces |= 1 << (i / ((uint32_t)N * N));
+        }
+    }
+    return __builtin_popcount((unsigned)faces) * 1000 + cells;
+}
+
+static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, int has_sea,
+                              uint64_t expect_before) {
+    chk_graph g = geometric_cube_graph(N);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = has_sea;
+    o.sea_level = 0;
+    pg_pits_stats st;
+    assert_int_equal(pg_pits_stats_compute(t, dem, &o, NULL, &st, NULL), PG_OK);
+    assert_int_equal(st.depressions, expect_before);
+    uint8_t *sk = chk_sinks(dem, g.n, has_sea, 0, NULL, 0, 0, 0);
+    assert_true(chk_undrained(&g, dem, sk, 0) > 0);
+    for (int m = 0; m < 3; m++)
+        for (int eps = 0; eps < 2; eps++) {
+            float *h = malloc(sizeof(float) * g.n);
+            memcpy(h, dem, sizeof(float) * g.n);
+            o.method = (pg_pits_method)m;
+            o.epsilon = eps;
+            o.max_depth = 200;
+            o.max_length = 3;
+            pg_pits_result r;
+            assert_int_equal(pg_pits_remove(t, h, &o, &r, NULL), PG_OK);
+            assert_int_equal(chk_undrained(&g, h, sk, eps), 0);
+            assert_int_equal(pg_pits_stats_compute(t, h, &o, NULL, &st, NULL), PG_OK);
+            assert_int_equal(st.depressions, 0);
+            assert_true(r.raised + r.lowered > 0);
+            free(h);
+        }
+    free(sk);
+    chk_graph_free(&g);
+}
+
+static void test_seam_depression(void **state) {
+    (void)state;
+    int N = 24;
+    pg_pits_topo t;
+    pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+    float *h = planet(&t, N);
+    /* the midpoint of the seam between +X and +Y, a bit north of the equator */
+    double c[3] = {1, 1, 0.3};
+    int code = dig(h, &t, N, c, 0.15);
+    assert_true(code / 1000 == 2); /* it really straddles two faces */
+    check_all_methods(&t, N, h, 1, 1);
+    free(h);
+}
+
+static void test_corner_depression(void **state) {
+    (void)state;
+    int N = 24;
+    pg_pits_topo t;
+    pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+    float *h = planet(&t, N);
+    double c[3] = {1, 1, 1}; /* the corner where +X, +Y and +Z meet */
+    int code = dig(h, &t, N, c, 0.12);
+    assert_true(code / 1000 == 3);
+    check_all_methods(&t, N, h, 1, 1);
+    free(h);
+}
+
+/* No ocean: everything drains to the single lowest texel. */
+static void test_no_ocean_drains_to_lowest(void **state) {
+    (void)state;
+    int N = 16;
+    pg_pits_topo t;
+    pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+    float *dem = malloc(sizeof(float) * t.ncells);
+    for (uint32_t i = 0; i < t.ncells; i++)
+        dem[i] = (float)((i * 2654435761u) >> 20) + 100.0f; /* noise: full of pits */
+    uint32_t lo = 0;
+    for (uint32_t i = 1; i < t.ncells; i++)
+        if (dem[i] < dem[lo]) lo = i;
+    chk_graph g = geometric_cube_graph(N);
+    uint8_t *sk = calloc(g.n, 1);
+    sk[lo] = 1;
+    for (int m = 0; m < 3; m++) {
+        float *h = malloc(sizeof(float) * t.ncells);
+        memcpy(h, dem, sizeof(float) * t.ncells);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        o.method = (pg_pits_method)m;
+        o.max_depth = 1000;
+        o.max_length = 4;
+        pg_pits_result r;
+        assert_int_equal(pg_pits_remove(&t, h, &o, &r, NULL), PG_OK);
+        assert_int_equal(r.sinks, 1);
+        assert_true(h[lo] == dem[lo]);
+        assert_int_equal(chk_undrained(&g, h, sk, 1), 0);
+        free(h);
+    }
+    free(sk);
+    chk_graph_free(&g);
+    free(dem);
+}
+
+/* Gain-pit: offsets += R' - R, so exemplar + offsets reconstructs R' (to rounding). */
+static void test_gain_pit_offsets(void **state) {
+    (void)state;
+    int N = 16;
+    pg_pits_topo t;
+    pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+    float *E = planet(&t, N), *V = calloc(t.ncells, sizeof(float));
+    float *R = malloc(sizeof(float) * t.ncells), *Rp = malloc(sizeof(float) * t.ncells);
+    for (uint32_t i = 0; i < t.ncells; i++)
+        V[i] = 6.0f * ((float)((i * 40503u) % 97) - 48.0f);
+    for (uint32_t i = 0; i < t.ncells; i++)
+        R[i] = E[i] + V[i];
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = true;
+    o.sea_level = 0;
+    memcpy(Rp, R, sizeof(float) * t.ncells);
+    assert_int_equal(pg_pits_remove(&t, Rp, &o, NULL, NULL), PG_OK);
+    pg_pits_result r;
+    assert_int_equal(pg_pits_correct_offsets(&t, R, V, &o, &r, NULL), PG_OK);
+    assert_true(r.lowered > 0);
+    for (uint32_t i = 0; i < t.ncells; i++)
+        assert_true(fabsf(E[i] + V[i] - Rp[i]) <= 1e-3f * (1.0f + fabsf(Rp[i])));
+    free(E);
+    free(V);
+    free(R);
+    free(Rp);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_topology_matches_geometry),
+        cmocka_unit_test(test_seam_depression),
+        cmocka_unit_test(test_corner_depression),
+        cmocka_unit_test(test_no_ocean_drains_to_lowest),
+        cmocka_unit_test(test_gain_pit_offsets),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,286 @@
+/* test_pits_grid.c - pit removal on flat 8-connected grids: every method leaves no
+ * pits (independent checker), plain fill equals the brute-force minimal fill, fill
+ * never lowers and breach never raises, hybrid honours its limits, results do not
+ * depend on the thread count, depressions are counted, bad input is refused. */
+#include "pg_test.h"
+#include "pits_checker.h"
+#include "planetgen/pg_pits.h"
+
+#include <omp.h>
+#include <stdio.h>
+
+/* Deterministic test randomness: a hash of (seed, index). */
+static uint32_t hash32(uint32_t a, uint32_t b) {
+    uint32_t h = a * 0x9E3779B1u ^ (b + 0x7F4A7C15u) * 0x85EBCA77u;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    h *= 0x297A2D39u;
+    return h ^ (h >> 15);
+}
+
+/* Random terrain: noisy, pitted, sometimes quantised (flats), with a sea. */
+static float *random_dem(uint32_t seed, int w, int h) {
+    float *d = malloc(sizeof(float) * (size_t)w * h);
+    int quant = seed % 3 == 0;
+    for (int i = 0; i < w * h; i++) {
+        int x = i % w, y = i / w;
+        double v =
+            30.0 * sin(0.3 * x + seed) * cos(0.25 * y) + 20.0 * (hash32(seed, i) / 4294967296.0);
+        d[i] = quant ? (float)floor(v / 4) * 4 : (float)v;
+    }
+    return d;
+}
+
+typedef struct variant {
+    pg_pits_method m;
+    bool eps;
+} variant;
+
+static const variant VARIANTS[] = {{PG_PITS_FILL, false},   {PG_PITS_FILL, true},
+                                   {PG_PITS_BREACH, false}, {PG_PITS_BREACH, true},
+                                   {PG_PITS_HYBRID, false}, {PG_PITS_HYBRID, true}};
+
+static void set_sinks(pg_pits_opts *o, uint32_t seed) {
+    o->has_sea_level = seed % 4 != 1;
+    o->sea_level = -10.0;
+    o->open_edges = seed % 2 == 0;
+}
+
+/* All methods, many random grids: pit-free by the independent checker. */
+static void test_all_methods_drain(void **state) {
+    (void)state;
+    for (uint32_t seed = 0; seed < 60; seed++) {
+        int w = 1 + (int)(hash32(seed, 1) % 40), h = 1 + (int)(hash32(seed, 2) % 40);
+        float *dem = random_dem(seed, w, h);
+        chk_graph g = chk_grid_graph(w, h);
+        pg_pits_topo t;
+        assert_int_equal(pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL), PG_OK);
+        for (size_t v = 0; v < sizeof VARIANTS / sizeof *VARIANTS; v++) {
+            pg_pits_opts o;
+            pg_pits_opts_default(&o);
+            o.method = VARIANTS[v].m;
+            o.epsilon = VARIANTS[v].eps;
+            o.max_depth = 6;
+            o.max_length = 5;
+            set_sinks(&o, seed);
+            float *out = malloc(sizeof(float) * (size_t)w * h);
+            memcpy(out, dem, sizeof(float) * (size_t)w * h);
+            pg_error err = {0};
+            assert_int_equal(pg_pits_remove(&t, out, &o, NULL, &err), PG_OK);
+            uint8_t *sk =
+                chk_sinks(dem, g.n, o.has_sea_level, o.sea_level, NULL, o.open_edges, w, h);
+            /* before: random terrain has pits (when it is not tiny) */
+            if (seed == 5) assert_true(chk_undrained(&g, dem, sk, 0) > 0);
+            size_t bad = chk_undrained(&g, out, sk, o.epsilon);
+            if (bad)
+                fprintf(stderr, "seed %u %dx%d %s eps %d: %zu undrained\n", seed, w, h,
+                        pg_pits_method_name(o.method), o.epsilon, bad);
+            assert_int_equal(bad, 0);
+            /* direction */
+            for (size_t i = 0; i < g.n; i++) {
+                if (o.method == PG_PITS_FILL) assert_true(out[i] >= dem[i]);
+                if (o.method == PG_PITS_BREACH) assert_true(out[i] <= dem[i]);
+                if (o.method == PG_PITS_HYBRID) assert_true(dem[i] - out[i] <= o.max_depth);
+                if (sk[i]) assert_true(out[i] == dem[i]);
+            }
+            free(sk);
+            free(out);
+        }
+        chk_graph_free(&g);
+        free(dem);
+    }
+}
+
+/* Plain fill equals the brute-force minimal fill, bit for bit. */
+static void test_exact_fill(void **state) {
+    (void)state;
+    for (uint32_t seed = 100; seed < 160; seed++) {
+        int w = 1 + (int)(hash32(seed, 1) % 30), h = 1 + (int)(hash32(seed, 2) % 30);
+        float *dem = random_dem(seed, w, h);
+        chk_graph g = chk_grid_graph(w, h);
+        pg_pits_topo t;
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        o.method = PG_PITS_FILL;
+        o.epsilon = false;
+        set_sinks(&o, seed);
+        uint8_t *lakes = NULL;
+        if (seed % 5 == 0) { /* a lakes mask too */
+            lakes = calloc(g.n, 1);
+            lakes[hash32(seed, 9) % g.n] = 1;
+        }
+        o.lakes = lakes;
+        float *out = malloc(sizeof(float) * g.n);
+        memcpy(out, dem, sizeof(float) * g.n);
+        assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+        uint8_t *sk = chk_sinks(dem, g.n, o.has_sea_level, o.sea_level, lakes, o.open_edges, w, h);
+        float *ref = chk_minimal_fill(&g, dem, sk);
+        for (size_t i = 0; i < g.n; i++)
+            assert_true(out[i] == ref[i]);
+        free(ref);
+        free(sk);
+        free(out);
+        free(lakes);
+        chk_graph_free(&g);
+        free(dem);
+    }
+}
+
+/* Hybrid with max_length 0 can carve nothing: it is exactly the fill. With a depth
+ * limit, no cell ends deeper than the limit below its start. */
+static void test_hybrid_limits(void **state) {
+    (void)state;
+    for (uint32_t seed = 200; seed < 230; seed++) {
+        int w = 32, h = 24;
+        float *dem = random_dem(seed, w, h);
+        pg_pits_topo t;
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        for (int eps = 0; eps < 2; eps++) {
+            pg_pits_opts o;
+            pg_pits_opts_default(&o);
+            set_sinks(&o, seed);
+            o.epsilon = eps;
+            float *a = malloc(sizeof(float) * w * h), *b = malloc(sizeof(float) * w * h);
+            memcpy(a, dem, sizeof(float) * w * h);
+            memcpy(b, dem, sizeof(float) * w * h);
+            o.method = PG_PITS_FILL;
+            pg_pits_remove(&t, a, &o, NULL, NULL);
+            o.method = PG_PITS_HYBRID;
+            o.max_length = 0;
+            pg_pits_result r;
+            pg_pits_remove(&t, b, &o, &r, NULL);
+            assert_memory_equal(a, b, sizeof(float) * w * h);
+            assert_int_equal(r.lowered, 0);
+            /* depth-limited, unlimited length */
+            memcpy(b, dem, sizeof(float) * w * h);
+            o.max_length = INFINITY;
+            o.max_depth = 3.0;
+            pg_pits_remove(&t, b, &o, &r, NULL);
+            assert_true(r.max_lower <= 3.0);
+            /* unlimited: breaches something on pitted terrain */
+            memcpy(b, dem, sizeof(float) * w * h);
+            o.max_depth = INFINITY;
+            pg_pits_remove(&t, b, &o, &r, NULL);
+            if (seed == 201) assert_true(r.breaches > 0);
+            free(a);
+            free(b);
+        }
+        free(dem);
+    }
+}
+
+/* Results do not depend on the thread count. */
+static void test_thread_invariance(void **state) {
+    (void)state;
+    int w = 300, h = 200;
+    float *dem = random_dem(7, w, h);
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+    for (size_t v = 0; v < sizeof VARIANTS / sizeof *VARIANTS; v++) {
+        float *a = malloc(sizeof(float) * w * h), *b = malloc(sizeof(float) * w * h);
+        memcpy(a, dem, sizeof(float) * w * h);
+        memcpy(b, dem, sizeof(float) * w * h);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        o.method = VARIANTS[v].m;
+        o.epsilon = VARIANTS[v].eps;
+        o.max_depth = 5;
+        o.max_length = 20;
+        o.has_sea_level = true;
+        o.sea_level = -5;
+        omp_set_num_threads(1);
+        pg_pits_remove(&t, a, &o, NULL, NULL);
+        omp_set_num_threads(2);
+        pg_pits_remove(&t, b, &o, NULL, NULL);
+        assert_memory_equal(a, b, sizeof(float) * w * h);
+        free(a);
+        free(b);
+    }
+    free(dem);
+}
+
+/* Two separate square pits: 2 depressions of known area and volume; 0 after. */
+static void test_stats(void **state) {
+    (void)state;
+    int w = 20, h = 10;
+    float dem[200];
+    for (int i = 0; i < 200; i++)
+        dem[i] = 10.0f + (float)(i % w) * 0.1f; /* slope to x=0 */
+    for (int y = 3; y < 6; y++)
+        for (int x = 4; x < 7; x++)
+            dem[y * w + x] = 0.0f; /* 3x3 pit, rim >= 10.3 */
+    dem[5 * w + 15] = 1.0f;        /* single-cell pit */
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.open_edges = true;
+    pg_pits_area area = {NULL, NULL, NULL, 4.0}; /* 2 m cells */
+    pg_pits_stats st;
+    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, &area, &st, NULL), PG_OK);
+    assert_int_equal(st.depressions, 2);
+    assert_int_equal(st.depression_cells, 10);
+    assert_true(fabs(st.depression_area_m2 - 40.0) < 1e-9);
+    /* the 3x3 pit fills to its spill (the rim cell at x=3: 10.3) */
+    double vol = 9 * 4.0 * 10.3 + 4.0 * (11.4 - 1.0);
+    assert_true(fabs(st.depression_volume_m3 - vol) < 1e-3);
+    for (int m = 0; m < 3; m++) {
+        float out[200];
+        memcpy(out, dem, sizeof out);
+        o.method = (pg_pits_method)m;
+        assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+        assert_int_equal(pg_pits_stats_compute(&t, out, &o, &area, &st, NULL), PG_OK);
+        assert_int_equal(st.depressions, 0);
+        assert_true(st.depression_volume_m3 == 0.0);
+    }
+}
+
+/* No-data cells: refused without a stated value; with one, left alone as outlets. */
+static void test_bad_input_and_nodata(void **state) {
+    (void)state;
+    float dem[25];
+    for (int i = 0; i < 25; i++)
+        dem[i] = 5.0f;
+    dem[12] = 1.0f; /* centre pit */
+    dem[3] = NAN;
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, 5, 5, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    pg_error err = {0};
+    float a[25];
+    memcpy(a, dem, sizeof a);
+    assert_int_equal(pg_pits_remove(&t, a, &o, NULL, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "no-data"));
+    o.has_nodata = true;
+    o.nodata = -9999.0f;
+    dem[3] = -9999.0f;
+    memcpy(a, dem, sizeof a);
+    assert_int_equal(pg_pits_remove(&t, a, &o, NULL, NULL), PG_OK);
+    assert_true(a[3] == -9999.0f);
+    int below = 0; /* breached: a channel below the pit runs to the no-data hole */
+    for (int i = 0; i < 25; i++)
+        below += a[i] < 1.0f && i != 3;
+    assert_true(below >= 1);
+    o.max_depth = -1;
+    pg_error_clear(&err);
+    assert_int_equal(pg_pits_remove(&t, a, &o, NULL, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "--max-depth"));
+    pg_pits_method m;
+    assert_false(pg_pits_method_parse("carve", &m));
+    assert_true(pg_pits_method_parse("hybrid", &m) && m == PG_PITS_HYBRID);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_all_methods_drain),
+        cmocka_unit_test(test_exact_fill),
+        cmocka_unit_test(test_hybrid_limits),
+        cmocka_unit_test(test_thread_invariance),
+        cmocka_unit_test(test_stats),
+        cmocka_unit_test(test_bad_input_and_nodata),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
