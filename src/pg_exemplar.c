@@ -155,27 +155,57 @@ static pg_status to_grid(float **data, int w, int h, int ch, int gw, pg_error *e
     return PG_OK;
 }
 
+/* A grey relief becomes metres before it is resampled, because the ramp is not
+ * linear: averaging greys and then mapping would bias every mixed pixel. The sea
+ * level grey is fitted on the common grid, where the albedo's water mask lives. */
+static pg_status calibrate_grey(const pg_exemplar_opts *o, pg_exemplar *ex, pg_image *hgt,
+                                const uint8_t *water, pg_error *err) {
+    float *coarse = hgt->data;
+    pg_status st = PG_OK;
+    if (hgt->width != ex->width)
+        st = pg_equirect_resample(hgt->data, hgt->width, hgt->height, 1, ex->width, ex->height,
+                                  &coarse, err);
+    if (st == PG_OK)
+        st = pg_exemplar_calibrate(coarse, water, ex->width, ex->height, &ex->calib, err);
+    if (coarse != hgt->data) free(coarse);
+    if (st == PG_OK && !o->height_path) st = pg_calibration_marble_refs(hgt, &ex->calib, err);
+    if (st != PG_OK) return st;
+    size_t n = (size_t)hgt->width * hgt->height;
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; i++) hgt->data[i] = pg_calibration_apply(&ex->calib, hgt->data[i]);
+    return PG_OK;
+}
+
 static pg_status heights_to_metres(const pg_exemplar_opts *o, pg_exemplar *ex, pg_image *hgt,
                                    pg_error *err) {
-    size_t n = (size_t)ex->width * ex->height;
+    size_t n = (size_t)hgt->width * hgt->height;
     bool grey = hgt->src_type == PG_SAMPLE_UINT8 || hgt->src_type == PG_SAMPLE_UINT16;
     bool user_lin = !isnan(o->height_scale) || !isnan(o->height_offset);
     double scale = isnan(o->height_scale) ? 1.0 : o->height_scale;
     double offset = isnan(o->height_offset) ? 0.0 : o->height_offset;
     ex->sea_level = isnan(o->sea_level) ? 0.0f : (float)o->sea_level;
     if (!grey || user_lin) {
-        for (size_t i = 0; i < n; i++) ex->elevation[i] = (float)(ex->elevation[i] * scale + offset);
+        for (size_t i = 0; i < n; i++) hgt->data[i] = (float)(hgt->data[i] * scale + offset);
         return PG_OK;
     }
     ex->height_is_grey = true;
-    uint8_t *water = malloc(n);
+    size_t ng = (size_t)ex->width * ex->height;
+    uint8_t *water = malloc(ng);
     if (!water) return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the water mask");
     pg_exemplar_water_mask(ex->albedo, ex->width, ex->height, water);
-    pg_status st = pg_exemplar_calibrate(ex->elevation, water, ex->width, ex->height, &ex->calib, err);
+    pg_status st = calibrate_grey(o, ex, hgt, water, err);
     free(water);
-    if (st != PG_OK) return st;
-    for (size_t i = 0; i < n; i++) ex->elevation[i] = pg_calibration_apply(&ex->calib, ex->elevation[i]);
-    return PG_OK;
+    return st;
+}
+
+static void measure_agreement(pg_exemplar *ex) {
+    if (!ex->height_is_grey) return;
+    size_t n = (size_t)ex->width * ex->height;
+    uint8_t *water = malloc(n);
+    if (!water) return;
+    pg_exemplar_water_mask(ex->albedo, ex->width, ex->height, water);
+    ex->calib.mask_agreement = pg_exemplar_mask_agreement(ex->elevation, ex->sea_level, water, n);
+    free(water);
 }
 
 pg_status pg_exemplar_load(const pg_exemplar_opts *o, pg_exemplar *ex, pg_error *err) {
@@ -192,15 +222,17 @@ pg_status pg_exemplar_load(const pg_exemplar_opts *o, pg_exemplar *ex, pg_error 
     int gw = o->grid_width > 0 ? o->grid_width : (alb.width < hgt.width ? alb.width : hgt.width);
     gw &= ~1;
     st = to_grid(&alb.data, alb.width, alb.height, 3, gw, err);
-    if (st == PG_OK) st = to_grid(&hgt.data, hgt.width, hgt.height, 1, gw, err);
     if (st != PG_OK) goto fail;
     ex->width = gw;
     ex->height = gw / 2;
     ex->albedo = alb.data;
-    ex->elevation = hgt.data;
-    alb.data = hgt.data = NULL;
+    alb.data = NULL;
     st = heights_to_metres(o, ex, &hgt, err);
+    if (st == PG_OK) st = to_grid(&hgt.data, hgt.width, hgt.height, 1, gw, err);
     if (st != PG_OK) goto fail;
+    ex->elevation = hgt.data;
+    hgt.data = NULL;
+    measure_agreement(ex);
     return PG_OK;
 fail:
     pg_image_free(&alb);

@@ -1,8 +1,63 @@
-/* pg_image.c - the format-independent parts of pg_image.h (allocation). */
+/* pg_image.c - the format-independent parts of pg_image.h: allocation, and a
+ * structural check of PNG files.
+ *
+ * Why check PNGs ourselves: when libpng meets a truncated or corrupt file inside
+ * OpenImageIO, libpng's fallback error handler prints "libpng error: ..." straight
+ * to stderr before OpenImageIO reports the failure, which breaks our one-line
+ * error rule. Walking the chunk list (length, type, CRC) up to IEND finds those
+ * files first, without decoding a pixel. */
 #include "planetgen/pg_image.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <zlib.h>
+
+static uint32_t be32(const unsigned char *b) {
+    return ((uint32_t)b[0] << 24) | ((uint32_t)b[1] << 16) | ((uint32_t)b[2] << 8) | b[3];
+}
+
+/* Verify one chunk's CRC by streaming its type and data through zlib's crc32. */
+static int chunk_crc_ok(FILE *f, const unsigned char type[4], uint32_t len) {
+    uLong crc = crc32(0L, type, 4);
+    unsigned char buf[65536];
+    while (len > 0) {
+        size_t want = len < sizeof buf ? len : sizeof buf;
+        if (fread(buf, 1, want, f) != want) return 0;
+        crc = crc32(crc, buf, (uInt)want);
+        len -= (uint32_t)want;
+    }
+    unsigned char c[4];
+    return fread(c, 1, 4, f) == 4 && be32(c) == (uint32_t)crc;
+}
+
+pg_status pg_image_png_check(const char *path, pg_error *err) {
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    FILE *f = fopen(path, "rb");
+    if (!f) return PG_OK; /* the reader reports unopenable files itself */
+    unsigned char head[8];
+    pg_status st = PG_OK;
+    if (fread(head, 1, 8, f) != 8 || memcmp(head, sig, 8) != 0) {
+        fclose(f);
+        return PG_OK; /* not a PNG: another decoder's business */
+    }
+    for (;;) {
+        unsigned char h[8];
+        if (fread(h, 1, 8, f) != 8) {
+            st = pg_error_set(err, PG_ERR_BADINPUT, "%s: truncated PNG (no IEND chunk)", path);
+            break;
+        }
+        uint32_t len = be32(h);
+        if (len > 0x7fffffffu || !chunk_crc_ok(f, h + 4, len)) {
+            st = pg_error_set(err, PG_ERR_BADINPUT, "%s: corrupt or truncated PNG chunk '%.4s'",
+                              path, (const char *)h + 4);
+            break;
+        }
+        if (memcmp(h + 4, "IEND", 4) == 0) break;
+    }
+    fclose(f);
+    return st;
+}
 
 pg_status pg_image_alloc(pg_image *img, int width, int height, int channels, pg_error *err) {
     memset(img, 0, sizeof *img);

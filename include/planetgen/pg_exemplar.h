@@ -43,14 +43,14 @@ typedef struct pg_exemplar_opts {
 void pg_exemplar_opts_default(pg_exemplar_opts *o);
 
 /* The grey -> metres mapping: piecewise linear through knots (grey, metres). */
-#define PG_CALIB_MAX_KNOTS 8
+#define PG_CALIB_MAX_KNOTS 16
 typedef struct pg_calibration {
     int nknots;
     float grey[PG_CALIB_MAX_KNOTS];
     float metres[PG_CALIB_MAX_KNOTS];
     float sea_grey;        /* grey level of sea level, estimated from the water mask */
     double mask_agreement; /* fraction of pixels where (h < 0) == Blue Marble water */
-    bool from_mask;        /* true when estimated, false when user-given */
+    bool reference_points; /* knots from surveyed reference points (Marble relief) */
 } pg_calibration;
 
 typedef struct pg_exemplar {
@@ -88,7 +88,16 @@ void pg_exemplar_water_mask(const float *albedo, int width, int height, uint8_t 
 pg_status pg_exemplar_calibrate(const float *grey, const uint8_t *water, int width, int height,
                                 pg_calibration *c, pg_error *err);
 
+/* Replace c's knots by the reference-point calibration of Marble's relief: the grey
+ * at each surveyed point (median of a 7x7 window of the full-resolution relief)
+ * becomes a knot at that point's elevation; the sea-level knot c->sea_grey stays. */
+pg_status pg_calibration_marble_refs(const pg_image *relief, pg_calibration *c, pg_error *err);
+
 float pg_calibration_apply(const pg_calibration *c, float grey);
+
+/* Fraction of pixels where (height <= sea level) agrees with the water mask. */
+double pg_exemplar_mask_agreement(const float *height, float sea_level, const uint8_t *water,
+                                  size_t n);
 
 /* Bilinear sample of an equirectangular map at (lat, lon) in degrees, wrapping in
  * longitude and clamping at the poles. */

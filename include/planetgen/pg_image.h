@@ -52,6 +52,10 @@ pg_status pg_image_probe(const char *path, int *width, int *height, int *channel
 
 void pg_image_free(pg_image *img);
 
+/* Structural check of a PNG (chunk lengths and CRCs up to IEND); PG_OK for files
+ * that are not PNGs. pg_image_read calls it first. */
+pg_status pg_image_png_check(const char *path, pg_error *err);
+
 /* Allocate a zeroed image. */
 pg_status pg_image_alloc(pg_image *img, int width, int height, int channels, pg_error *err);
 

@@ -75,8 +75,13 @@ static void widen_any(TypeDesc t, const void *src, float *dst, size_t n) {
 
 static pg_status open_input(const char *path, std::unique_ptr<ImageInput> &in, pg_error *err) {
     pg_status st = check_path(path, err);
+    if (st == PG_OK) st = pg_image_png_check(path, err);
     if (st != PG_OK) return st;
-    in = ImageInput::open(path);
+    // Alpha is ignored, never applied: ask for the file's unassociated colours,
+    // or a PNG with alpha would come back premultiplied.
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    in = ImageInput::open(path, &config);
     if (!in) {
         std::string e = one_line(OIIO::geterror());
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a readable image (%s)", path,
@@ -174,6 +179,7 @@ extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, i
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: PNG bit depth %d not 8 or 16", path, bits);
     TypeDesc fmt = bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16;
     ImageSpec spec(img->width, img->height, img->channels, fmt);
+    spec.attribute("oiio:UnassociatedAlpha", 1); // our colours are never premultiplied
     auto out = ImageOutput::create("png");
     if (!out || !out->open(path, spec))
         return pg_error_set(err, PG_ERR_IO, "%s: cannot write (%s)", path,

@@ -156,8 +156,11 @@ int pg_cli_parse(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const 
                 *(bool *)o->dest = true;
                 continue;
             }
-            const char *v = eq ? eq + 1 : (i + 1 < argc ? argv[++i] : NULL);
+            /* A following word that is itself an option is not this option's value. */
+            const char *v = eq ? eq + 1 : (i + 1 < argc ? argv[i + 1] : NULL);
+            if (!eq && v && find_opt(specs, common, v)) v = NULL;
             if (!v) return pg_cli_usage_error(cli, "%s needs a value", name);
+            if (!eq) i++;
             int rc = store_value(cli, o, v);
             if (rc) return rc;
         } else {

@@ -1,0 +1,162 @@
+/* test_image_io.c - image round trips through planetgen's own readers and writers,
+ * and reading the formats users bring (TIFF made by oiiotool, grey, alpha). */
+#include "pg_test.h"
+
+#include "planetgen/pg_exr.h"
+#include "planetgen/pg_image.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void fill_pattern(pg_image *img) {
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++)
+            for (int c = 0; c < img->channels; c++)
+                img->data[((size_t)y * img->width + x) * img->channels + c] =
+                    (float)((x * 7 + y * 13 + c * 101) % 256) / 255.0f;
+}
+
+static void roundtrip_png(int bits, int channels) {
+    char dir[1024], path[1100];
+    pg_test_scratch_dir(bits == 8 ? "io_png8" : "io_png16", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/img_%d.png", dir, channels);
+    pg_image a, b;
+    pg_error err = {0};
+    assert_int_equal(pg_image_alloc(&a, 37, 23, channels, &err), PG_OK);
+    fill_pattern(&a);
+    assert_int_equal(pg_image_write_png(path, &a, bits, &err), PG_OK);
+    assert_int_equal(pg_image_read(path, 0, &b, &err), PG_OK);
+    assert_int_equal(b.width, 37);
+    assert_int_equal(b.height, 23);
+    assert_int_equal(b.channels, channels);
+    assert_int_equal(b.src_type, bits == 8 ? PG_SAMPLE_UINT8 : PG_SAMPLE_UINT16);
+    double maxv = bits == 8 ? 255.0 : 65535.0;
+    for (size_t i = 0; i < (size_t)37 * 23 * channels; i++) {
+        /* raw values come back unnormalised; unit_scale maps them to 0..1 */
+        assert_float_equal(b.data[i], lround(a.data[i] * maxv), 0.0);
+        assert_float_equal(b.data[i] * b.unit_scale, a.data[i], 0.5 / maxv + 1e-6);
+    }
+    pg_image_free(&a);
+    pg_image_free(&b);
+}
+
+static void test_png8_roundtrip(void **s) {
+    (void)s;
+    roundtrip_png(8, 1);
+    roundtrip_png(8, 3);
+    roundtrip_png(8, 4);
+}
+
+static void test_png16_roundtrip(void **s) {
+    (void)s;
+    roundtrip_png(16, 1);
+    roundtrip_png(16, 3);
+}
+
+static void test_exr_float_roundtrip(void **s) {
+    (void)s;
+    char dir[1024], path[1100];
+    pg_test_scratch_dir("io_exr", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/h.exr", dir);
+    pg_image a, b;
+    pg_error err = {0};
+    assert_int_equal(pg_image_alloc(&a, 61, 17, 1, &err), PG_OK);
+    for (int i = 0; i < 61 * 17; i++) a.data[i] = -10935.25f + 19.783f * i; /* metres */
+    assert_int_equal(pg_image_write_exr(path, &a, NULL, &err), PG_OK);
+    /* both our OpenEXR-core reader and OpenImageIO must read back the exact floats */
+    assert_int_equal(pg_image_read_exr(path, NULL, &b, &err), PG_OK);
+    assert_int_equal(b.width, 61);
+    assert_memory_equal(a.data, b.data, 61 * 17 * sizeof(float));
+    pg_image_free(&b);
+    assert_int_equal(pg_image_read(path, 0, &b, &err), PG_OK);
+    assert_int_equal(b.src_type, PG_SAMPLE_FLOAT);
+    assert_memory_equal(a.data, b.data, 61 * 17 * sizeof(float));
+    pg_image_free(&a);
+    pg_image_free(&b);
+}
+
+static void test_exr_multipart(void **s) {
+    (void)s;
+    char dir[1024], path[1100];
+    pg_test_scratch_dir("io_exr_multi", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/faces.exr", dir);
+    pg_image parts[3];
+    const char *names[3] = {"+X", "-X", "+Y"};
+    pg_error err = {0};
+    for (int p = 0; p < 3; p++) {
+        assert_int_equal(pg_image_alloc(&parts[p], 16, 16, 1, &err), PG_OK);
+        for (int i = 0; i < 256; i++) parts[p].data[i] = p * 1000.0f + i;
+    }
+    assert_int_equal(pg_exr_write_parts(path, 3, names, parts, NULL, &err), PG_OK);
+    int n = 0;
+    char got[8][64];
+    assert_int_equal(pg_exr_list_parts(path, &n, got, 8, &err), PG_OK);
+    assert_int_equal(n, 3);
+    for (int p = 0; p < 3; p++) {
+        assert_string_equal(got[p], names[p]);
+        pg_image b;
+        assert_int_equal(pg_image_read_exr(path, names[p], &b, &err), PG_OK);
+        assert_memory_equal(b.data, parts[p].data, 256 * sizeof(float));
+        pg_image_free(&b);
+        pg_image_free(&parts[p]);
+    }
+}
+
+/* TIFF in 8-bit, 16-bit and float, as produced by a real tool (oiiotool). */
+static void test_tiff_via_oiiotool(void **s) {
+    (void)s;
+    char dir[1024], png[1100], cmd[4096];
+    pg_test_scratch_dir("io_tiff", dir, sizeof dir);
+    snprintf(png, sizeof png, "%s/src.png", dir);
+    pg_image a;
+    pg_error err = {0};
+    assert_int_equal(pg_image_alloc(&a, 40, 20, 1, &err), PG_OK);
+    fill_pattern(&a);
+    assert_int_equal(pg_image_write_png(png, &a, 16, &err), PG_OK);
+    const char *fmts[] = {"uint8", "uint16", "float"};
+    const pg_sample_type want[] = {PG_SAMPLE_UINT8, PG_SAMPLE_UINT16, PG_SAMPLE_FLOAT};
+    for (int i = 0; i < 3; i++) {
+        char tif[1100];
+        snprintf(tif, sizeof tif, "%s/t_%s.tif", dir, fmts[i]);
+        snprintf(cmd, sizeof cmd, "oiiotool '%s' -d %s -o '%s'", png, fmts[i], tif);
+        assert_int_equal(system(cmd), 0);
+        pg_image b;
+        assert_int_equal(pg_image_read(tif, 0, &b, &err), PG_OK);
+        assert_int_equal(b.src_type, want[i]);
+        assert_int_equal(b.width, 40);
+        for (int k = 0; k < 800; k++)
+            assert_float_equal(b.data[k] * b.unit_scale, a.data[k], 1.0 / 255);
+        pg_image_free(&b);
+    }
+    pg_image_free(&a);
+}
+
+static void test_pixel_limit_refused_before_alloc(void **s) {
+    (void)s;
+    char dir[1024], path[1100];
+    pg_test_scratch_dir("io_limit", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/big.png", dir);
+    pg_image a, b;
+    pg_error err = {0};
+    assert_int_equal(pg_image_alloc(&a, 200, 100, 1, &err), PG_OK);
+    assert_int_equal(pg_image_write_png(path, &a, 8, &err), PG_OK);
+    assert_int_equal(pg_image_read(path, 19999, &b, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "above the limit"));
+    assert_non_null(strstr(err.msg, path));
+    assert_null(b.data);
+    pg_image_free(&a);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_png8_roundtrip),
+        cmocka_unit_test(test_png16_roundtrip),
+        cmocka_unit_test(test_exr_float_roundtrip),
+        cmocka_unit_test(test_exr_multipart),
+        cmocka_unit_test(test_tiff_via_oiiotool),
+        cmocka_unit_test(test_pixel_limit_refused_before_alloc),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
