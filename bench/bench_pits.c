@@ -1,0 +1,185 @@
+/* bench_pits.c - speed of pit removal on the default relief and on a planet.
+ *
+ * Flat: the default relief (Marble's 10800 x 5400 tiles, calibrated to metres by
+ * pg_exemplar_load; --synthetic uses a fractal DEM of the same size instead). Planet:
+ * that relief resampled onto a 6 x N^2 cube sphere (default N = 2048). For fill,
+ * breach and hybrid (all with epsilon; fill also plain) it prints seconds and
+ * Mcells/s with 1 thread and with 2, checks that both give identical heights, and
+ * counts the depressions before and after. Figures only; nothing is asserted.
+ *
+ * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats] */
+#include "planetgen/pg_cube.h"
+#include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_pits.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double hashf(uint32_t a, uint32_t b) {
+    uint32_t h = a * 0x9E3779B1u ^ (b + 0x7F4A7C15u) * 0x85EBCA77u;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 13;
+    return (h & 0xFFFFFF) / 16777216.0;
+}
+
+/* Value-noise fBm, 8 octaves, on a W x H grid; sea at 0 m. */
+static float *fractal(int w, int h) {
+    float *d = malloc(sizeof(float) * (size_t)w * h);
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double v = 0, amp = 3000;
+            for (int o = 0; o < 8; o++) {
+                int cell = 512 >> o;
+                int cx = x / cell, cy = y / cell;
+                double fx = (double)(x % cell) / cell, fy = (double)(y % cell) / cell;
+                double a = hashf(o, (uint32_t)(cy * 100003 + cx)),
+                       b = hashf(o, (uint32_t)(cy * 100003 + cx + 1)),
+                       c = hashf(o, (uint32_t)((cy + 1) * 100003 + cx)),
+                       e = hashf(o, (uint32_t)((cy + 1) * 100003 + cx + 1));
+                double top = a + (b - a) * fx, bot = c + (e - c) * fx;
+                v += amp * (top + (bot - top) * fy - 0.5);
+                amp *= 0.5;
+            }
+            d[(size_t)y * w + x] = (float)v;
+        }
+    return d;
+}
+
+typedef struct run {
+    const char *name;
+    pg_pits_method m;
+    bool eps;
+} run;
+
+static const run RUNS[] = {{"fill (plain)", PG_PITS_FILL, false},
+                           {"fill (eps)", PG_PITS_FILL, true},
+                           {"breach (eps)", PG_PITS_BREACH, true},
+                           {"hybrid (eps, 50 m, 100 cells)", PG_PITS_HYBRID, true}};
+
+static void count(const char *what, const pg_pits_topo *t, const float *h, const pg_pits_opts *o) {
+    pg_pits_stats st;
+    pg_error err = {0};
+    double t0 = omp_get_wtime();
+    if (pg_pits_stats_compute(t, h, o, NULL, &st, &err)) {
+        printf("  stats failed: %s\n", err.msg);
+        return;
+    }
+    printf("  %-34s %llu depressions, %llu cells, volume %.4g m^3-per-cell-area (%.1f s)\n", what,
+           (unsigned long long)st.depressions, (unsigned long long)st.depression_cells,
+           st.depression_volume_m3, omp_get_wtime() - t0);
+}
+
+static void bench(const char *label, const pg_pits_topo *t, const float *dem, double sea,
+                  int stats) {
+    size_t n = t->ncells;
+    printf("%s: %llu cells (%.1f Mcells)\n", label, (unsigned long long)n, n / 1e6);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = true;
+    o.sea_level = sea;
+    o.open_edges = t->kind == PG_PITS_GRID;
+    if (stats) count("before", t, dem, &o);
+    float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
+    for (size_t r = 0; r < sizeof RUNS / sizeof *RUNS; r++) {
+        o.method = RUNS[r].m;
+        o.epsilon = RUNS[r].eps;
+        o.max_depth = 50;
+        o.max_length = 100;
+        double sec[2];
+        float *out[2] = {a, b};
+        for (int th = 1; th <= 2; th++) {
+            memcpy(out[th - 1], dem, sizeof(float) * n);
+            omp_set_num_threads(th);
+            pg_pits_result res;
+            pg_error err = {0};
+            double t0 = omp_get_wtime();
+            if (pg_pits_remove(t, out[th - 1], &o, &res, &err)) {
+                printf("  %s failed: %s\n", RUNS[r].name, err.msg);
+                return;
+            }
+            sec[th - 1] = omp_get_wtime() - t0;
+            if (th == 1)
+                printf("  %-30s raised %llu lowered %llu (max %.1f / %.1f m)\n", RUNS[r].name,
+                       (unsigned long long)res.raised, (unsigned long long)res.lowered,
+                       res.max_raise, res.max_lower);
+        }
+        printf("  %-30s 1 thread %6.2f s %6.1f Mcells/s | 2 threads %6.2f s %6.1f Mcells/s | "
+               "identical: %s\n",
+               RUNS[r].name, sec[0], n / 1e6 / sec[0], sec[1], n / 1e6 / sec[1],
+               memcmp(a, b, sizeof(float) * n) ? "NO" : "yes");
+        if (stats) count("after", t, a, &o);
+    }
+    free(a);
+    free(b);
+}
+
+int main(int argc, char **argv) {
+    int synthetic = 0, flat = 1, planet = 1, stats = 1;
+    long N = 2048;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--synthetic"))
+            synthetic = 1;
+        else if (!strcmp(argv[i], "--flat-only"))
+            planet = 0;
+        else if (!strcmp(argv[i], "--planet-only"))
+            flat = 0;
+        else if (!strcmp(argv[i], "--no-stats"))
+            stats = 0;
+        else if (!strcmp(argv[i], "--n") && i + 1 < argc)
+            N = atol(argv[++i]);
+        else {
+            fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] "
+                            "[--no-stats]\n");
+            return 2;
+        }
+    }
+    int w = 10800, h = 5400;
+    float *dem = NULL;
+    double sea = 0;
+    pg_error err = {0};
+    if (!synthetic) {
+        pg_exemplar_opts eo;
+        pg_exemplar_opts_default(&eo);
+        eo.grid_width = w;
+        pg_exemplar ex;
+        double t0 = omp_get_wtime();
+        if (pg_exemplar_load(&eo, &ex, &err) == PG_OK) {
+            dem = ex.elevation;
+            ex.elevation = NULL;
+            sea = ex.sea_level;
+            pg_exemplar_free(&ex);
+            printf("relief: Marble %dx%d, calibrated to metres, sea level %.1f m (load %.1f s)\n",
+                   w, h, sea, omp_get_wtime() - t0);
+        } else {
+            printf("relief not available (%s); using the synthetic fractal\n", err.msg);
+        }
+    }
+    if (!dem) {
+        dem = fractal(w, h);
+        printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
+    }
+    pg_pits_topo t;
+    if (flat) {
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        bench("flat", &t, dem, sea, stats);
+    }
+    if (planet) {
+        float *cube = malloc(sizeof(float) * 6 * (size_t)N * N);
+        if (pg_cube_from_equirect(PG_CUBE_EQUIANGULAR, N, NULL, dem, w, h, 1, 1, cube, &err)) {
+            printf("resampling failed: %s\n", err.msg);
+            return 1;
+        }
+        pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+        char label[64];
+        snprintf(label, sizeof label, "planet 6x%ld^2", N);
+        bench(label, &t, cube, sea, stats);
+        free(cube);
+    }
+    free(dem);
+    return 0;
+}

@@ -1,0 +1,299 @@
+/* cmd_pits.c - `planetgen pits`: remove pits from a flat DEM, or count them.
+ *
+ *   planetgen pits --method fill|breach|hybrid [--epsilon] [--max-depth D]
+ *                  [--max-length L] [--sea-level H] [--lakes MASK] [--nodata V]
+ *                  [--closed-edges] IN -o OUT
+ *   planetgen pits --stats FILE [--json F]
+ *
+ * It lets GIS users run the pit-removal module (pg_pits.h) on its own. Inputs are
+ * any image OpenImageIO reads (GeoTIFF, EXR, 16-bit PNG, ...), taken as raw heights;
+ * outputs are float EXR (strict descent survives) or 16-bit PNG (for integer inputs:
+ * the result is rounded to the input's steps, which keeps every path non-ascending
+ * because rounding is monotone). Map borders are outlets unless --closed-edges. All
+ * input is validated before any output is created. */
+#include "pg_commands.h"
+
+#include "planetgen/pg_image.h"
+#include "planetgen/pg_json.h"
+#include "planetgen/pg_pits.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+typedef struct pits_args {
+    const char *method, *out, *lakes, *stats;
+    bool epsilon, closed_edges, global, no_stats;
+    double max_depth, max_length, sea_level, nodata, cell_size;
+} pits_args;
+
+/* Area of a row of a global equirectangular grid (w = 2h), for --global. */
+typedef struct equirect_area {
+    int w, h;
+} equirect_area;
+
+static double equirect_cell_area(void *ctx, uint32_t id) {
+    const equirect_area *a = ctx;
+    const double R = 6371008.8, pi = 3.14159265358979323846;
+    int y = (int)(id / (uint32_t)a->w);
+    double lat0 = pi / 2 - pi * y / a->h, lat1 = pi / 2 - pi * (y + 1) / a->h;
+    return R * R * (2 * pi / a->w) * (sin(lat0) - sin(lat1));
+}
+
+static pg_status read_dem(const char *path, const char *what, pg_image *img, pg_error *err) {
+    struct stat sb;
+    if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s %s: a directory (planet directories are not supported yet)", what,
+                            path);
+    pg_status s = pg_image_read(path, 0, img, err);
+    if (s) return s;
+    if (img->channels != 1) {
+        pg_image_free(img);
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s %s: %d channels, expected 1 (a height map)",
+                            what, path, img->channels);
+    }
+    return PG_OK;
+}
+
+static pg_status read_lakes(const char *path, const pg_image *dem, uint8_t **mask, pg_error *err) {
+    pg_image m;
+    pg_status s = pg_image_read(path, 0, &m, err);
+    if (s) return s;
+    if (m.width != dem->width || m.height != dem->height) {
+        s = pg_error_set(err, PG_ERR_BADINPUT, "--lakes %s: %dx%d, but the DEM is %dx%d", path,
+                         m.width, m.height, dem->width, dem->height);
+    } else if (!(*mask = malloc((size_t)m.width * m.height))) {
+        s = pg_error_set(err, PG_ERR_NOMEM, "--lakes %s: out of memory", path);
+    } else {
+        for (size_t i = 0; i < (size_t)m.width * m.height; i++)
+            (*mask)[i] = m.data[i * m.channels] != 0;
+    }
+    pg_image_free(&m);
+    return s;
+}
+
+static void set_opts(const pits_args *a, const uint8_t *lakes, pg_pits_opts *o) {
+    pg_pits_opts_default(o);
+    pg_pits_method_parse(a->method, &o->method);
+    o->epsilon = a->epsilon;
+    o->max_depth = a->max_depth;
+    o->max_length = a->max_length;
+    o->has_sea_level = !isnan(a->sea_level);
+    o->sea_level = a->sea_level;
+    o->lakes = lakes;
+    o->open_edges = !a->closed_edges;
+    o->has_nodata = !isnan(a->nodata);
+    o->nodata = (float)a->nodata;
+}
+
+static void area_of(const pits_args *a, const pg_image *img, equirect_area *ea,
+                    pg_pits_area *area) {
+    memset(area, 0, sizeof *area);
+    ea->w = img->width;
+    ea->h = img->height;
+    if (a->global) {
+        area->fn = equirect_cell_area;
+        area->ctx = ea;
+    } else {
+        area->constant = a->cell_size * a->cell_size;
+    }
+}
+
+/* Print st; add it to the JSON object `into` (NULL without --json). */
+static void report_stats(pg_cli *cli, const char *key, const pg_pits_stats *st, pg_json *into) {
+    if (key)
+        pg_cli_info(cli,
+                    "%-7s %llu depressions, %llu cells, area %.6g m^2, volume %.6g m^3, "
+                    "deepest %.6g\n",
+                    key, (unsigned long long)st->depressions,
+                    (unsigned long long)st->depression_cells, st->depression_area_m2,
+                    st->depression_volume_m3, st->max_depth_m);
+    if (!into) return;
+    pg_json *o = into;
+    pg_json_set_number(o, "depressions", (double)st->depressions);
+    pg_json_set_number(o, "depression_cells", (double)st->depression_cells);
+    pg_json_set_number(o, "depression_area_m2", st->depression_area_m2);
+    pg_json_set_number(o, "depression_volume_m3", st->depression_volume_m3);
+    pg_json_set_number(o, "max_depth", st->max_depth_m);
+}
+
+static pg_status write_dem(pg_cli *cli, const char *out, pg_image *img, pg_error *err) {
+    const char *slash = strrchr(out, '/');
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
+    if (!dir[0]) snprintf(dir, sizeof dir, "/");
+    const char *name = slash ? slash + 1 : out;
+    const char *tmp = pg_cli_output_path(cli, dir, name);
+    if (!tmp) return pg_error_set(err, PG_ERR_NOMEM, "-o %s: out of memory", out);
+    size_t len = strlen(name);
+    if (len > 4 && !strcmp(name + len - 4, ".exr")) return pg_image_write_exr(tmp, img, NULL, err);
+    /* PNG: back to the input's integer steps; pg_image_write_png rounds */
+    size_t n = (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; i++)
+        img->data[i] *= img->unit_scale;
+    return pg_image_write_png(tmp, img, 16, err);
+}
+
+static pg_status check_output(const pits_args *a, const pg_image *img, pg_error *err) {
+    size_t len = strlen(a->out);
+    int exr = len > 4 && !strcmp(a->out + len - 4, ".exr");
+    int png = len > 4 && !strcmp(a->out + len - 4, ".png");
+    if (!exr && !png)
+        return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: write .exr (float) or .png (16-bit)",
+                            a->out);
+    if (png && (img->unit_scale == 1.0f || img->src_type == PG_SAMPLE_FLOAT))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "-o %s: a float DEM cannot be written as PNG without losing "
+                            "heights; write .exr",
+                            a->out);
+    if (png && img->unit_scale < 1.0f / 65535.5f)
+        return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: input has more than 16 bits; write .exr",
+                            a->out);
+    return PG_OK;
+}
+
+static int run_stats(pg_cli *cli, const pits_args *a) {
+    pg_error err = {0};
+    pg_image img;
+    uint8_t *lakes = NULL;
+    if (read_dem(a->stats, "--stats", &img, &err)) return pg_cli_fail(cli, &err);
+    if (a->lakes && read_lakes(a->lakes, &img, &lakes, &err)) {
+        pg_image_free(&img);
+        return pg_cli_fail(cli, &err);
+    }
+    pg_pits_opts o;
+    set_opts(a, lakes, &o);
+    pg_pits_topo t;
+    pg_pits_stats st;
+    equirect_area ea;
+    pg_pits_area area;
+    area_of(a, &img, &ea, &area);
+    pg_cli_stage_begin(cli, "count depressions");
+    pg_status s = pg_pits_topo_grid(&t, (uint32_t)img.width, (uint32_t)img.height, &err);
+    if (!s) s = pg_pits_stats_compute(&t, img.data, &o, &area, &st, &err);
+    pg_image_free(&img);
+    free(lakes);
+    if (s) return pg_cli_fail(cli, &err);
+    pg_cli_stage_end(cli);
+    pg_json *r = pg_cli_report(cli);
+    report_stats(cli, "stats", &st, r ? pg_json_set_object(r, "results") : NULL);
+    return pg_cli_finish(cli);
+}
+
+static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
+    pg_error err = {0};
+    pg_image img;
+    uint8_t *lakes = NULL;
+    if (read_dem(in, "input", &img, &err)) return pg_cli_fail(cli, &err);
+    pg_status s = check_output(a, &img, &err);
+    if (!s && a->lakes) s = read_lakes(a->lakes, &img, &lakes, &err);
+    pg_pits_opts o;
+    set_opts(a, lakes, &o);
+    pg_pits_topo t;
+    if (!s) s = pg_pits_topo_grid(&t, (uint32_t)img.width, (uint32_t)img.height, &err);
+    equirect_area ea;
+    pg_pits_area area;
+    area_of(a, &img, &ea, &area);
+    pg_pits_stats before, after;
+    if (!s && !a->no_stats) {
+        pg_cli_stage_begin(cli, "count depressions before");
+        s = pg_pits_stats_compute(&t, img.data, &o, &area, &before, &err);
+        pg_cli_stage_end(cli);
+    }
+    pg_pits_result res;
+    if (!s) {
+        pg_cli_verbose(cli, "method: %s%s\n", pg_pits_method_citation(o.method),
+                       o.epsilon ? " (epsilon: strictly descending, no flats)" : "");
+        pg_cli_stage_begin(cli, "remove pits");
+        s = pg_pits_remove(&t, img.data, &o, &res, &err);
+        pg_cli_stage_end(cli);
+    }
+    if (!s && !a->no_stats) {
+        pg_cli_stage_begin(cli, "count depressions after");
+        s = pg_pits_stats_compute(&t, img.data, &o, &area, &after, &err);
+        pg_cli_stage_end(cli);
+    }
+    if (!s) s = write_dem(cli, a->out, &img, &err);
+    pg_image_free(&img);
+    free(lakes);
+    if (s) return pg_cli_fail(cli, &err);
+    pg_cli_info(cli, "%s: raised %llu cells (max %.6g), lowered %llu (max %.6g), %llu sinks\n",
+                pg_pits_method_name(o.method), (unsigned long long)res.raised, res.max_raise,
+                (unsigned long long)res.lowered, res.max_lower, (unsigned long long)res.sinks);
+    if (o.method == PG_PITS_HYBRID)
+        pg_cli_info(cli, "hybrid: %llu breach channels carved, %llu pits filled\n",
+                    (unsigned long long)res.breaches, (unsigned long long)res.fills);
+    pg_json *r = pg_cli_report(cli), *rj = NULL;
+    if (r) {
+        pg_json *p = pg_json_set_object(r, "parameters");
+        pg_json_set_string(p, "method", a->method);
+        pg_json_set_bool(p, "epsilon", a->epsilon);
+        pg_json_set_string(p, "citation", pg_pits_method_citation(o.method));
+        rj = pg_json_set_object(r, "results");
+        pg_json_set_number(rj, "raised_cells", (double)res.raised);
+        pg_json_set_number(rj, "lowered_cells", (double)res.lowered);
+        pg_json_set_number(rj, "sinks", (double)res.sinks);
+    }
+    if (!a->no_stats) {
+        report_stats(cli, "before", &before, rj ? pg_json_set_object(rj, "before") : NULL);
+        report_stats(cli, "after", &after, rj ? pg_json_set_object(rj, "after") : NULL);
+        /* the headline keys describe the delivered DEM */
+        if (rj) report_stats(cli, NULL, &after, rj);
+    }
+    return pg_cli_finish(cli);
+}
+
+int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
+    pits_args a = {"breach", NULL,     NULL,     NULL, false, false, false,
+                   false,    INFINITY, INFINITY, NAN,  NAN,   1.0};
+    const pg_opt opts[] = {
+        {"--method", NULL, PG_OPT_CHOICE, &a.method, 0, 0, "fill|breach|hybrid", "M",
+         "fill (Barnes 2014), breach (Soille 2004; default) or hybrid (Lindsay 2016)"},
+        {"--epsilon", NULL, PG_OPT_FLAG, &a.epsilon, 0, 0, NULL, NULL,
+         "strictly descending paths (nextafter steps): no flats left"},
+        {"--max-depth", NULL, PG_OPT_DOUBLE, &a.max_depth, 0, 1e12, NULL, "D",
+         "hybrid: deepest breach channel, height units (default unlimited)"},
+        {"--max-length", NULL, PG_OPT_DOUBLE, &a.max_length, 0, 1e12, NULL, "L",
+         "hybrid: longest breach channel, cells (default unlimited)"},
+        {"--sea-level", NULL, PG_OPT_DOUBLE, &a.sea_level, -1e12, 1e12, NULL, "H",
+         "cells at or below H are ocean sinks"},
+        {"--lakes", NULL, PG_OPT_STRING, &a.lakes, 0, 0, NULL, "MASK",
+         "image of the DEM's size; nonzero cells are lake sinks"},
+        {"--nodata", NULL, PG_OPT_DOUBLE, &a.nodata, -1e38, 1e38, NULL, "V",
+         "cells equal to V (or NaN) are no-data: outlets, left unchanged"},
+        {"--closed-edges", NULL, PG_OPT_FLAG, &a.closed_edges, 0, 0, NULL, NULL,
+         "the map border is not an outlet (default: it is)"},
+        {"--cell-size", NULL, PG_OPT_DOUBLE, &a.cell_size, 1e-9, 1e9, NULL, "M",
+         "cell edge in metres, for areas and volumes (default 1)"},
+        {"--global", NULL, PG_OPT_FLAG, &a.global, 0, 0, NULL, NULL,
+         "the DEM is a global equirectangular grid: true cell areas on the sphere"},
+        {"--no-stats", NULL, PG_OPT_FLAG, &a.no_stats, 0, 0, NULL, NULL,
+         "skip counting depressions before and after"},
+        {"--stats", NULL, PG_OPT_STRING, &a.stats, 0, 0, NULL, "FILE",
+         "only count the depressions of FILE"},
+        {"--output", "-o", PG_OPT_STRING, &a.out, 0, 0, NULL, "OUT", "output DEM (.exr or .png)"},
+        PG_OPT_END};
+    const char *pos[2];
+    int npos = 0;
+    bool done = false;
+    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 2, &npos, &done);
+    if (rc) return rc;
+    if (done) {
+        pg_cli_print_help(cli,
+                          "--method fill|breach|hybrid [OPTIONS] IN -o OUT\n"
+                          "       planetgen pits --stats FILE [--json F]",
+                          "Remove pits (closed depressions) from a flat DEM so that every cell "
+                          "drains to an outlet,\nor count them with --stats. See docs/pits.md.",
+                          opts, stdout);
+        return 0;
+    }
+    if (a.stats) {
+        if (npos) return pg_cli_usage_error(cli, "--stats takes no other input");
+        return run_stats(cli, &a);
+    }
+    if (npos != 1) return pg_cli_usage_error(cli, "expected one input DEM (see --help)");
+    if (!a.out) return pg_cli_usage_error(cli, "-o OUT is required");
+    return run_remove(cli, &a, pos[0]);
+}
