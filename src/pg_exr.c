@@ -1,6 +1,10 @@
 /* pg_exr.c - float32 EXR writing and reading with OpenEXR's C API.
  *
- * Scanline parts, ZIP-compressed, every channel FLOAT. The encoder's channel list is
+ * Scanline parts, uncompressed, every channel FLOAT. Why no compression: ZIP gains
+ * about 1% on noisy float heights, and the ZIP encoder of Debian 12's OpenEXR 3.1.5
+ * corrupts a chunk whose compressed size equals its raw size (the reader then takes
+ * the zlib bytes for raw pixels; upstream issue #2306). Real planets hit that case,
+ * as tests/test_planet.c showed, so we do not use it. The encoder's channel list is
  * in the file's (alphabetical) order, so each coding channel is matched to the
  * interleaved image channel by name. Errors from the library are captured through
  * the context's error handler so the caller gets one line naming the file. */
@@ -54,7 +58,7 @@ static exr_result_t define_part(exr_context_t ctxt, const char *name, const pg_i
     exr_result_t rv = exr_add_part(ctxt, name, EXR_STORAGE_SCANLINE, &idx);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctxt, idx, img->width, img->height,
-                                                 EXR_COMPRESSION_ZIP);
+                                                 EXR_COMPRESSION_NONE);
     for (int c = 0; rv == EXR_ERR_SUCCESS && c < img->channels; c++)
         rv = exr_add_channel(ctxt, idx, channel_name(names, img->channels, c), EXR_PIXEL_FLOAT,
                              EXR_PERCEPTUALLY_LINEAR, 1, 1);

@@ -1,0 +1,74 @@
+/* pg_planet.h - a synthesized planet in memory and on disk.
+ *
+ * In memory: six N x N faces (N = tiles * tile_size) in the cube-sphere frames of
+ * pg_cube.h (row y = 0 is the face's -v edge), albedo as RGB floats 0..1 (sRGB
+ * encoded) and heights in metres. Everything that generate, pits, export and
+ * inspect share goes through this one type.
+ *
+ * On disk, a planet directory holds:
+ *   planet.json         metadata: format version, radius, flattening, projection,
+ *                       tiles, tile_size, seed, sea_level_m, exemplar, faces
+ *   albedo_+X.png ...   per-face albedo, 8-bit sRGB, N x N; PNG row 0 is the
+ *                       face's +v edge (north up on the equatorial faces)
+ *   height.exr          float32 heights in metres, one part per face, parts named
+ *                       "+X", "-X", "+Y", "-Y", "+Z", "-Z", same orientation as PNGs
+ * Files are written under temporary names and renamed by the caller (the CLI's
+ * pg_cli_output_path), so a directory is either complete or absent. */
+#ifndef PLANETGEN_PG_PLANET_H
+#define PLANETGEN_PG_PLANET_H
+
+#include "planetgen/pg_cube.h"
+#include "planetgen/pg_exemplar.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PG_PLANET_FORMAT_VERSION 1
+
+typedef struct pg_planet {
+    int tiles, tile_size;
+    int64_t n; /* texels per face edge: tiles * tile_size */
+    pg_cube_projection projection;
+    pg_ellipsoid ellipsoid;
+    uint64_t seed;
+    float sea_level; /* metres */
+    char exemplar[512];
+    float *albedo[PG_CUBE_NFACES]; /* n*n*3 */
+    float *height[PG_CUBE_NFACES]; /* n*n */
+} pg_planet;
+
+/* Allocate the faces (zeroed) and set the geometry. */
+pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                          pg_ellipsoid ell, pg_error *err);
+void pg_planet_free(pg_planet *p);
+
+/* Bytes the faces of a planet of this size take in memory. */
+double pg_planet_bytes(int tiles, int tile_size);
+
+/* Fill a planet by reprojecting the exemplar (bilinear, `samples`^2 taps per
+ * texel): the planet Earth itself, at this resolution. A reference for synthesis
+ * and a fixture for export and inspection. */
+pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples,
+                                  pg_error *err);
+
+/* The file names of a planet directory. */
+void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png" */
+#define PG_PLANET_HEIGHT_NAME "height.exr"
+#define PG_PLANET_META_NAME "planet.json"
+
+/* Write each file to the path `path_for(name, user)` returns (the CLI stages
+ * temporary names there); NULL from path_for is an out-of-memory error. */
+typedef const char *(*pg_planet_path_fn)(const char *name, void *user);
+pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                         pg_error *err);
+
+/* Load a planet directory written by pg_planet_save. Missing files are named in
+ * the error; a directory without planet.json is "not a planet output". */
+pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,241 @@
+/* pg_planet.c - the planet in memory and its directory format; see pg_planet.h.
+ *
+ * Faces are stored bottom-up (row 0 = -v edge) to match the cube frames, while image
+ * files are top-down; every read and write flips rows, so a face PNG shows north up
+ * on the equatorial faces, as a user opening it expects. */
+#include "planetgen/pg_planet.h"
+
+#include "planetgen/pg_exr.h"
+#include "planetgen/pg_json.h"
+#include "pg_planet_meta.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                          pg_ellipsoid ell, pg_error *err) {
+    memset(p, 0, sizeof *p);
+    p->tiles = tiles;
+    p->tile_size = tile_size;
+    p->n = (int64_t)tiles * tile_size;
+    p->projection = proj;
+    p->ellipsoid = ell;
+    size_t nn = (size_t)p->n * (size_t)p->n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        p->albedo[f] = calloc(nn * 3, sizeof(float));
+        p->height[f] = calloc(nn, sizeof(float));
+        if (!p->albedo[f] || !p->height[f]) {
+            pg_planet_free(p);
+            return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate a planet of 6 x %lld^2",
+                                (long long)(nn ? (long long)p->n : 0));
+        }
+    }
+    return PG_OK;
+}
+
+void pg_planet_free(pg_planet *p) {
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        free(p->albedo[f]);
+        free(p->height[f]);
+        p->albedo[f] = p->height[f] = NULL;
+    }
+}
+
+double pg_planet_bytes(int tiles, int tile_size) {
+    double n = (double)tiles * tile_size;
+    return 6.0 * n * n * 4.0 * sizeof(float);
+}
+
+pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples,
+                                  pg_error *err) {
+    size_t nn = (size_t)p->n * (size_t)p->n;
+    float *cube = malloc(6 * nn * 4 * sizeof(float));
+    float *rgbh = malloc((size_t)ex->width * ex->height * 4 * sizeof(float));
+    if (!cube || !rgbh) {
+        free(cube);
+        free(rgbh);
+        return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the reprojection buffers");
+    }
+    size_t np = (size_t)ex->width * ex->height;
+    for (size_t i = 0; i < np; i++) {
+        memcpy(rgbh + 4 * i, ex->albedo + 3 * i, 3 * sizeof(float));
+        rgbh[4 * i + 3] = ex->elevation[i];
+    }
+    pg_status st = pg_cube_from_equirect(p->projection, p->n, &p->ellipsoid, rgbh, ex->width,
+                                         ex->height, 4, samples, cube, err);
+    free(rgbh);
+    if (st == PG_OK) {
+        for (int f = 0; f < PG_CUBE_NFACES; f++) {
+            const float *src = cube + (size_t)f * nn * 4;
+            for (size_t i = 0; i < nn; i++) {
+                memcpy(p->albedo[f] + 3 * i, src + 4 * i, 3 * sizeof(float));
+                p->height[f][i] = src[4 * i + 3];
+            }
+        }
+        p->sea_level = ex->sea_level;
+        int k = snprintf(p->exemplar, sizeof p->exemplar, "%.250s + ", ex->albedo_src);
+        snprintf(p->exemplar + k, sizeof p->exemplar - (size_t)k, "%.250s", ex->height_src);
+    }
+    free(cube);
+    return st;
+}
+
+void pg_planet_albedo_name(int face, char *buf, size_t size) {
+    snprintf(buf, size, "albedo_%s.png", pg_cube_face_name(face));
+}
+
+/* Copy a face into an image with rows flipped (face rows bottom-up, images top-down). */
+static void flip_rows(const float *src, float *dst, int64_t n, int ch) {
+    size_t row = (size_t)n * ch;
+    for (int64_t y = 0; y < n; y++)
+        memcpy(dst + (size_t)(n - 1 - y) * row, src + (size_t)y * row, row * sizeof(float));
+}
+
+static pg_status save_albedo(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                             pg_error *err) {
+    pg_image img;
+    pg_status st = pg_image_alloc(&img, (int)p->n, (int)p->n, 3, err);
+    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++) {
+        char name[64];
+        pg_planet_albedo_name(f, name, sizeof name);
+        const char *path = path_for(name, user);
+        if (!path) {
+            st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+            break;
+        }
+        flip_rows(p->albedo[f], img.data, p->n, 3);
+        st = pg_image_write_png(path, &img, 8, err);
+    }
+    pg_image_free(&img);
+    return st;
+}
+
+static pg_status save_height(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                             pg_error *err) {
+    pg_image parts[PG_CUBE_NFACES];
+    const char *names[PG_CUBE_NFACES];
+    memset(parts, 0, sizeof parts);
+    pg_status st = PG_OK;
+    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++) {
+        names[f] = pg_cube_face_name(f);
+        st = pg_image_alloc(&parts[f], (int)p->n, (int)p->n, 1, err);
+        if (st == PG_OK) flip_rows(p->height[f], parts[f].data, p->n, 1);
+    }
+    const char *path = st == PG_OK ? path_for(PG_PLANET_HEIGHT_NAME, user) : NULL;
+    if (st == PG_OK && !path) st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    if (st == PG_OK) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, NULL, err);
+    for (int f = 0; f < PG_CUBE_NFACES; f++) pg_image_free(&parts[f]);
+    return st;
+}
+
+static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                           pg_error *err) {
+    pg_json *j = pg_json_object();
+    pg_json_set_number(j, "format_version", PG_PLANET_FORMAT_VERSION);
+    pg_json_set_string(j, "generator", "planetgen");
+    pg_json_set_number(j, "radius_m", p->ellipsoid.a);
+    pg_json_set_number(j, "flattening", p->ellipsoid.f);
+    pg_json_set_string(j, "projection", pg_cube_projection_name(p->projection));
+    pg_json_set_number(j, "tiles", p->tiles);
+    pg_json_set_number(j, "tile_size", p->tile_size);
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)p->seed);
+    pg_json_set_string(j, "seed", seed); /* a string: JSON numbers lose 64-bit seeds */
+    pg_json_set_number(j, "sea_level_m", p->sea_level);
+    pg_json_set_string(j, "exemplar", p->exemplar);
+    pg_json *faces = pg_json_set_array(j, "faces");
+    for (int f = 0; f < PG_CUBE_NFACES; f++) pg_json_push_string(faces, pg_cube_face_name(f));
+    const char *path = path_for(PG_PLANET_META_NAME, user);
+    FILE *fp = path ? fopen(path, "w") : NULL;
+    pg_status st = PG_OK;
+    if (!fp) {
+        st = pg_error_set(err, PG_ERR_IO, "%s: cannot write", PG_PLANET_META_NAME);
+    } else {
+        int wr = pg_json_write(j, fp);
+        if (fclose(fp) != 0 || wr != 0)
+            st = pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    }
+    pg_json_free(j);
+    return st;
+}
+
+pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                         pg_error *err) {
+    pg_status st = save_albedo(p, path_for, user, err);
+    if (st == PG_OK) st = save_height(p, path_for, user, err);
+    if (st == PG_OK) st = save_meta(p, path_for, user, err);
+    return st;
+}
+
+static pg_status load_faces(const char *dir, pg_planet *p, pg_error *err) {
+    char path[4096];
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        char name[64];
+        pg_planet_albedo_name(f, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        pg_image img;
+        pg_status st = pg_image_read(path, 0, &img, err);
+        if (st != PG_OK) return st;
+        if (img.width != p->n || img.height != p->n || img.channels < 3) {
+            pg_image_free(&img);
+            return pg_error_set(err, PG_ERR_BADINPUT, "%s: expected %lldx%lld RGB", path,
+                                (long long)p->n, (long long)p->n);
+        }
+        float *rgb = malloc((size_t)p->n * p->n * 3 * sizeof(float));
+        for (size_t i = 0; rgb && i < (size_t)p->n * p->n; i++)
+            for (int c = 0; c < 3; c++)
+                rgb[3 * i + c] = img.data[i * img.channels + c] * img.unit_scale;
+        if (rgb) flip_rows(rgb, p->albedo[f], p->n, 3);
+        free(rgb);
+        pg_image_free(&img);
+        snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_HEIGHT_NAME);
+        st = pg_image_read_exr(path, pg_cube_face_name(f), &img, err);
+        if (st != PG_OK) return st;
+        if (img.width != p->n || img.height != p->n || img.channels != 1) {
+            pg_image_free(&img);
+            return pg_error_set(err, PG_ERR_BADINPUT, "%s: part %s is not %lldx%lld", path,
+                                pg_cube_face_name(f), (long long)p->n, (long long)p->n);
+        }
+        flip_rows(img.data, p->height[f], p->n, 1);
+        pg_image_free(&img);
+    }
+    return PG_OK;
+}
+
+pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
+    memset(p, 0, sizeof *p);
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a directory", dir);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_META_NAME);
+    if (stat(path, &st) != 0)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a planet output (no %s)", dir,
+                            PG_PLANET_META_NAME);
+    pg_planet_meta meta;
+    pg_status s = pg_planet_meta_read(path, &meta, err);
+    if (s != PG_OK) return s;
+    /* check every expected file first, so the error names the missing one */
+    for (int f = 0; f <= PG_CUBE_NFACES; f++) {
+        char name[64];
+        if (f < PG_CUBE_NFACES)
+            pg_planet_albedo_name(f, name, sizeof name);
+        else
+            snprintf(name, sizeof name, "%s", PG_PLANET_HEIGHT_NAME);
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        if (stat(path, &st) != 0)
+            return pg_error_set(err, PG_ERR_BADINPUT, "%s: missing %s", dir, name);
+    }
+    pg_cube_projection proj;
+    s = pg_cube_projection_parse(meta.projection, PG_PLANET_META_NAME, &proj, err);
+    if (s == PG_OK) s = pg_planet_alloc(p, proj, meta.tiles, meta.tile_size, meta.ellipsoid, err);
+    if (s != PG_OK) return s;
+    p->seed = meta.seed;
+    p->sea_level = (float)meta.sea_level;
+    snprintf(p->exemplar, sizeof p->exemplar, "%s", meta.exemplar);
+    s = load_faces(dir, p, err);
+    if (s != PG_OK) pg_planet_free(p);
+    return s;
+}

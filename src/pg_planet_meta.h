@@ -1,0 +1,28 @@
+/* pg_planet_meta.h - reading planet.json (C API over the nlohmann/json adapter). */
+#ifndef PG_PLANET_META_H
+#define PG_PLANET_META_H
+
+#include "planetgen/pg_geodesy.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pg_planet_meta {
+    int format_version;
+    pg_ellipsoid ellipsoid;
+    char projection[32];
+    int tiles, tile_size;
+    uint64_t seed;
+    double sea_level;
+    char exemplar[512];
+} pg_planet_meta;
+
+/* Parse and validate planet.json; every problem names the file and the key. */
+pg_status pg_planet_meta_read(const char *path, pg_planet_meta *m, pg_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
