@@ -66,6 +66,9 @@ static void print_summary(pg_cli *cli, const pg_exemplar *ex, const pg_exemplar_
                     ex->calib.sea_grey, ex->calib.grey[0], ex->calib.metres[0],
                     ex->calib.grey[ex->calib.nknots - 1], ex->calib.metres[ex->calib.nknots - 1],
                     100 * ex->calib.mask_agreement);
+    for (int k = 0; ex->height_is_grey && k < ex->calib.nknots; k++)
+        pg_cli_verbose(cli, "knot     grey %6.1f -> %7.0f m\n", ex->calib.grey[k],
+                       ex->calib.metres[k]);
     pg_cli_info(cli, "sea      %.1f m; land fraction %.1f%% (area-weighted)\n", ex->sea_level,
                 100 * s->land_fraction);
     if (ex->notes[0]) pg_cli_info(cli, "note     %s\n", ex->notes);
