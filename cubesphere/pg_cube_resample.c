@@ -169,7 +169,10 @@ pg_status pg_cube_from_equirect(pg_cube_projection p, int64_t n, const pg_ellips
     return PG_OK;
 }
 
-/* Bilinear on the face grid; taps past an edge are wrapped across the seam. */
+/* Bilinear on the face grid; taps past an edge are wrapped across the seam. Next
+ * to a cube vertex one tap can lie past both edges, where no texel exists (three
+ * faces meet); that tap is extrapolated from the other three (a + b - c, exact for
+ * a plane), which keeps the interpolation second-order there. */
 static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
                           float *out) {
     int face;
@@ -177,16 +180,20 @@ static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, cons
     pg_cube_from_dir(g->proj, dir, &face, &u, &v);
     double fx = (u + 1) / 2 * (double)g->n - 0.5, fy = (v + 1) / 2 * (double)g->n - 0.5;
     double x0 = floor(fx), y0 = floor(fy), tx = fx - x0, ty = fy - y0;
-    for (int c = 0; c < ch; c++)
-        out[c] = 0;
+    const float *tap[4];
+    int past = -1;
     for (int k = 0; k < 4; k++) {
-        int dx = k & 1, dy = k >> 1;
-        double wgt = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
-        if (wgt == 0) continue;
-        int64_t id = pg_cube_wrap(g, face, (int64_t)x0 + dx, (int64_t)y0 + dy, NULL);
-        const float *s = cube + (size_t)id * ch;
-        for (int c = 0; c < ch; c++)
-            out[c] += (float)(wgt * s[c]);
+        int64_t x = (int64_t)x0 + (k & 1), y = (int64_t)y0 + (k >> 1);
+        if ((x < 0 || x >= g->n) && (y < 0 || y >= g->n)) past = k;
+        tap[k] = cube + (size_t)pg_cube_wrap(g, face, x, y, NULL) * ch;
+    }
+    for (int c = 0; c < ch; c++) {
+        double t[4];
+        for (int k = 0; k < 4; k++)
+            t[k] = tap[k][c];
+        if (past >= 0) t[past] = t[past ^ 1] + t[past ^ 2] - t[past ^ 3];
+        double a = t[0] + tx * (t[1] - t[0]), b = t[2] + tx * (t[3] - t[2]);
+        out[c] = (float)(a + ty * (b - a));
     }
 }
 
