@@ -1,8 +1,8 @@
 /* pits_checker.h - the pit tests' INDEPENDENT drainage checker and reference fill.
  *
- * Shares no code with src/pg_pits_*: it has its own neighbour rules (the flat grid
- * here; the cube's across-seam neighbours are built from 3D geometry in
- * test_pits_cube.c and handed in as an explicit table), its own sink rule, and
+ * Shares no code with src/pg_pits_*: it has its own neighbour rules (the flat grid,
+ * and the cube's across-seam neighbours built from 3D geometry with only the face
+ * frames of pg_cube.h), its own sink rule, and
  * decides drainage by a plain search backwards from the sinks: a cell drains if a
  * neighbour drains and lies strictly below it (or not above, for non-strict), or
  * the neighbour is a sink (entering an outlet is always allowed). */
@@ -13,6 +13,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "planetgen/pg_cube.h"
 
 /* A neighbour table: nb[i*8 + j] for j < cnt[i]. */
 typedef struct chk_graph {
@@ -39,6 +41,47 @@ static inline chk_graph chk_grid_graph(int w, int h) {
                         g.nb[i * 8 + g.cnt[i]++] = (uint32_t)(Y * w + X);
                 }
         }
+    return g;
+}
+
+/* Independent neighbours: a step off the face is taken in 3D (half-texel units,
+ * the face plane extended) and projected centrally back onto the cube. */
+static inline chk_graph geometric_cube_graph(int N) {
+    size_t n = 6 * (size_t)N * N;
+    chk_graph g = {n, malloc(sizeof(uint32_t) * 8 * n), calloc(n, 1)};
+    for (int f = 0; f < 6; f++) {
+        int fn[3], fu[3], fv[3];
+        pg_cube_face_frame(f, fn, fu, fv);
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                size_t id = ((size_t)f * N + y) * N + x;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int X = x + dx, Y = y + dy;
+                        int ox = X < 0 || X >= N, oy = Y < 0 || Y >= N;
+                        if ((!dx && !dy) || (ox && oy)) continue;
+                        double a = 2 * X + 1 - N, b = 2 * Y + 1 - N, p[3];
+                        for (int i = 0; i < 3; i++)
+                            p[i] = N * fn[i] + a * fu[i] + b * fv[i];
+                        int ax = 0;
+                        for (int i = 1; i < 3; i++)
+                            if (fabs(p[i]) > fabs(p[ax])) ax = i;
+                        double s = N / fabs(p[ax]);
+                        int g2 = -1, gx = 0, gy = 0;
+                        for (int k = 0; k < 6; k++) {
+                            int kn[3], ku[3], kv[3];
+                            pg_cube_face_frame(k, kn, ku, kv);
+                            if (kn[ax] * p[ax] <= 0) continue;
+                            double u = s * (p[0] * ku[0] + p[1] * ku[1] + p[2] * ku[2]);
+                            double v = s * (p[0] * kv[0] + p[1] * kv[1] + p[2] * kv[2]);
+                            g2 = k;
+                            gx = (int)floor((u + N) / 2);
+                            gy = (int)floor((v + N) / 2);
+                        }
+                        g.nb[id * 8 + g.cnt[id]++] = (uint32_t)(((size_t)g2 * N + gy) * N + gx);
+                    }
+            }
+    }
     return g;
 }
 
