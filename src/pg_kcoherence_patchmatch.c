@@ -13,8 +13,12 @@
  * iteration scans a face in scanline order (reversed on odd iterations), trying for
  * every texel (1) propagation: the entries of the two already-visited neighbours,
  * shifted by one texel; (2) random search: samples around the current best in windows
- * halving from E down to 1 texel, plus one uniform sample from any face. Random numbers
+ * shrinking 4x from E/2 down to 1 texel, plus one uniform sample from any face. Random numbers
  * are hashes of (seed, scale, face, x, y, iteration, step).
+ *
+ * At level s the appearance is blurred over 2^s texels, so matches are searched only on
+ * a lattice of stride m = 2 (finest level) or 4 (coarser levels); the texels between take their
+ * lattice point's entries moved by the same offset (a coherent extension, exact for a translation).
  *
  * Determinism: a face's scan reads and writes only that face's table (other data is
  * read-only), so faces run in parallel with identical results for any thread count. */
@@ -29,6 +33,7 @@
 typedef struct pm_ctx {
     const pg_synth_exemplar *ex;
     int scale, kk, E, sep2;
+    int m; /* lattice stride: matches are searched at every m-th texel only */
     uint64_t seed;
     uint32_t *table; /* kk entries per texel */
     int32_t *dist;   /* kk distances per texel */
@@ -92,9 +97,9 @@ static uint32_t random_coord(const pm_ctx *c, int face, int x, int y, int salt) 
 }
 
 static void init_face(pm_ctx *c, int face) {
-    const int E = c->E;
-    for (int y = 0; y < E; y++)
-        for (int x = 0; x < E; x++) {
+    const int E = c->E, m = c->m;
+    for (int y = 0; y < E; y += m)
+        for (int x = 0; x < E; x += m) {
             size_t t = ((size_t)face * E + y) * E + x;
             uint32_t self = pg_synth_pack(face, x, y);
             for (int i = 0; i < c->kk; i++) {
@@ -107,12 +112,12 @@ static void init_face(pm_ctx *c, int face) {
 }
 
 static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
-    const int E = c->E;
+    const int E = c->E, m = c->m;
     size_t t = ((size_t)face * E + y) * E + x;
     uint32_t self = pg_synth_pack(face, x, y);
-    /* propagation from the visited neighbours at (x - dir, y) and (x, y - dir) */
+    /* propagation from the visited lattice neighbours (x - dir m, y), (x, y - dir m) */
     for (int n = 0; n < 2; n++) {
-        int nx = x - (n == 0 ? dir : 0), ny = y - (n == 1 ? dir : 0);
+        int nx = x - (n == 0 ? dir * m : 0), ny = y - (n == 1 ? dir * m : 0);
         if (!c->ex->torus && (nx < 0 || ny < 0 || nx >= E || ny >= E)) continue;
         nx &= E - 1;
         ny &= E - 1;
@@ -122,9 +127,9 @@ static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
             offer(c, self, t, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
         }
     }
-    /* random search around the current best, windows halving */
+    /* random search around the current best, windows shrinking 4x, then one anywhere */
     int salt = 1000 + it * 100;
-    for (int r = E / 2; r >= 1; r /= 2, salt += 2) {
+    for (int r = E / 2; r >= 1; r /= 4, salt += 2) {
         uint32_t b = c->table[t * c->kk];
         uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
         int du = (int)(h & 0xffff) % (2 * r + 1) - r, dv = (int)(h >> 16) % (2 * r + 1) - r;
@@ -134,21 +139,40 @@ static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
 }
 
 static void scan_face(pm_ctx *c, int face, int it) {
-    const int E = c->E;
+    const int E = c->E, m = c->m, last = E - m;
     if (it % 2 == 0) {
-        for (int y = 0; y < E; y++)
-            for (int x = 0; x < E; x++)
+        for (int y = 0; y < E; y += m)
+            for (int x = 0; x < E; x += m)
                 visit(c, face, x, y, it, 1);
     } else {
-        for (int y = E - 1; y >= 0; y--)
-            for (int x = E - 1; x >= 0; x--)
+        for (int y = last; y >= 0; y -= m)
+            for (int x = last; x >= 0; x -= m)
                 visit(c, face, x, y, it, -1);
     }
+}
+
+/* Texels between lattice points take their lattice point's entries, moved coherently. */
+static void fill_from_lattice(pm_ctx *c, int face) {
+    const int E = c->E, m = c->m;
+    for (int y = 0; y < E; y++)
+        for (int x = 0; x < E; x++) {
+            int lx = x - x % m, ly = y - y % m;
+            if (lx == x && ly == y) continue;
+            size_t t = ((size_t)face * E + y) * E + x, l = ((size_t)face * E + ly) * E + lx;
+            for (int i = 0; i < c->kk; i++) {
+                c->table[t * c->kk + i] =
+                    pg_synth_offset(c->ex, c->table[l * c->kk + i], x - lx, y - ly);
+                c->dist[t * c->kk + i] = c->dist[l * c->kk + i];
+            }
+        }
 }
 
 pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, int iters,
                               double min_separation, pg_error *err) {
     pm_ctx c = {.ex = ex, .scale = scale, .kk = ex->k - 1, .E = ex->face_size, .seed = seed};
+    /* coarser levels are smoother (blurred over h = 2^scale): search a sparser lattice */
+    c.m = scale == 0 ? 2 : 4;
+    if (c.m > c.E / 8) c.m = 1;
     if (c.kk <= 0) return PG_OK;
     int sep = (int)(min_separation * ex->face_size + 0.999);
     c.sep2 = sep * sep;
@@ -161,6 +185,7 @@ pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, i
         init_face(&c, face);
         for (int it = 0; it < iters; it++)
             scan_face(&c, face, it);
+        fill_from_lattice(&c, face);
     }
     /* a texel left with a placeholder (tiny exemplars only) gets any far texel */
     for (size_t t = 0; t < n * c.kk; t++)

@@ -6,12 +6,14 @@
  * change of any of them misses the cache. Files are written under a temporary name
  * and renamed, so a crash never leaves a truncated file under the real name; a file
  * that fails to read completely or has another key is treated as a miss. */
+#define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
 #include "pg_synth_internal.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #define CACHE_MAGIC "PGSYNTH\x03"
@@ -35,6 +37,20 @@ static size_t ntexels(const pg_synth_exemplar *ex) {
     return (size_t)ex->nfaces * ex->face_size * ex->face_size;
 }
 
+/* Large random-access tables live on transparent huge pages where the kernel allows
+ * (madvise mode): synthesis reads them at random and is otherwise bound by TLB misses. */
+static void *alloc_table(size_t bytes) {
+    const size_t huge = (size_t)2 << 20;
+    size_t rounded = (bytes + huge - 1) / huge * huge;
+    void *p = aligned_alloc(huge, rounded);
+    if (!p) return NULL;
+#ifdef MADV_HUGEPAGE
+    madvise(p, rounded, MADV_HUGEPAGE);
+#endif
+    memset(p, 0, bytes);
+    return p;
+}
+
 pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int dims, int k) {
     pg_synth_exemplar *ex = calloc(1, sizeof *ex);
     if (!ex) return NULL;
@@ -45,12 +61,19 @@ pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int
     ex->dims = dims;
     ex->k = k;
     size_t n = ntexels(ex);
+    if (nfaces == 6) {
+        pg_error gerr = {0};
+        if (pg_cube_grid_init(&ex->grid, PG_CUBE_DEFAULT_PROJECTION, 1, size, &gerr) != PG_OK) {
+            free(ex);
+            return NULL;
+        }
+    }
     ex->albedo = malloc(n * 3);
     ex->height = malloc(n * sizeof(float));
     int ok = ex->albedo && ex->height;
     for (int s = 0; s < levels && ok; s++) {
-        ex->app[s] = calloc(n * PG_SYNTH_MAX_DIMS, sizeof(int16_t));
-        ex->kcoh[s] = k > 1 ? calloc(n * (k - 1), sizeof(uint32_t)) : NULL;
+        ex->app[s] = alloc_table(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
+        ex->kcoh[s] = k > 1 ? alloc_table(n * (k - 1) * sizeof(uint32_t)) : NULL;
         ok = ex->app[s] && (k <= 1 || ex->kcoh[s]);
     }
     if (!ok) {

@@ -133,7 +133,9 @@ pg_status pg_synth_flat(const pg_synth_exemplar *ex, int n, const pg_synth_param
     memset(out, 0, sizeof *out);
     pg_status st = check(ex, n, p, err);
     if (st) return st;
-    const int s_top = ilog2(n < ex->face_size ? n : ex->face_size);
+    /* start at the coarsest analysed level: LH2005 initialise it with random samples */
+    int s_top = ilog2(n < ex->face_size ? n : ex->face_size);
+    if (s_top > ex->levels - 1) s_top = ex->levels - 1;
     size_t cap_a = (size_t)(n + 2) * (n + 2), cap_b = (size_t)(n / 2 + 2) * (n / 2 + 2);
     level_buf a = {malloc(cap_a * 4), malloc(cap_a * 4), 0, 0};
     level_buf b = {malloc(cap_b * 4), malloc(cap_b * 4), 0, 0};

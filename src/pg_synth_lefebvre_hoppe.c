@@ -48,15 +48,24 @@ uint32_t pg_synth_hash(uint64_t seed, int scale, int face, long x, long y, int s
     return (uint32_t)(h >> 32);
 }
 
+static uint32_t offset_across_seam(const pg_synth_exemplar *ex, int face, int u, int v) {
+    const int E = ex->face_size;
+    u = u < -E + 1 ? -E + 1 : (u > 2 * E - 2 ? 2 * E - 2 : u);
+    v = v < -E + 1 ? -E + 1 : (v > 2 * E - 2 ? 2 * E - 2 : v);
+    int rot;
+    int64_t id = pg_cube_wrap(&ex->grid, face, u, v, &rot);
+    int64_t per = (int64_t)E * E;
+    return pg_synth_pack((int)(id / per), (int)(id % per % E), (int)(id % per / E));
+}
+
 uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
     const int E = ex->face_size;
     int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
     if (ex->torus) {
         u &= E - 1;
         v &= E - 1;
-    } else {
-        u = u < 0 ? 0 : (u >= E ? E - 1 : u);
-        v = v < 0 ? 0 : (v >= E ? E - 1 : v);
+    } else if ((unsigned)u >= (unsigned)E || (unsigned)v >= (unsigned)E) {
+        return offset_across_seam(ex, pg_synth_face(c), u, v);
     }
     return pg_synth_pack(pg_synth_face(c), u, v);
 }
@@ -244,26 +253,72 @@ static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS],
     return first + rest;
 }
 
-static void correct_texel(const corr_ctx *c, const pg_synth_view *v, int x, int y) {
+/* Texels are corrected in small batches, phase by phase, with prefetches issued one
+ * phase ahead: the work is bound by the latency of random reads of appearance vectors
+ * and k-coherence entries, and a batch keeps many of them in flight. Texels of one
+ * parity class never read each other, so batching changes no result. */
+#define BATCH 8
+
+typedef struct texel_work {
     nbhd n;
-    load_nbhd(v, x, y, &n);
     float ns[ND][PG_SYNTH_MAX_DIMS];
-    target_nbhd(c, &n, ns);
     cand_list l;
-    gather_candidates(c, &n, &l);
-    uint32_t best = l.q[0];
+} texel_work;
+
+static inline void prefetch_app(const corr_ctx *c, uint32_t q) {
+    __builtin_prefetch(app_at(c, q));
+}
+
+static void prefetch_targets(const corr_ctx *c, const nbhd *n) {
+    for (int d = 0; d < ND; d++) {
+        const int Dx = diag[d][0], Dy = diag[d][1];
+        prefetch_app(c, move_from(c, n, Dx, Dy, 0, 0));
+        prefetch_app(c, move_from(c, n, Dx, 0, 0, Dy));
+        prefetch_app(c, move_from(c, n, 0, Dy, Dx, 0));
+    }
+    if (c->K)
+        for (int e = 0; e < 9; e++) {
+            uint32_t q0 = move_from(c, n, e % 3 - 1, e / 3 - 1, 1 - e % 3, 1 - e / 3);
+            __builtin_prefetch(c->K + pg_synth_texel(c->ex, q0) * c->kk);
+        }
+}
+
+static void prefetch_candidates(const corr_ctx *c, const cand_list *l) {
+    for (int i = 0; i < l->n; i++)
+        for (int d = 0; d < ND; d++)
+            prefetch_app(c, pg_synth_offset(c->ex, l->q[i], c->h * diag[d][0], c->h * diag[d][1]));
+}
+
+static void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V) {
+    uint32_t best = w->l.q[0];
     float best_h = 0, best_d = 0;
-    for (int i = 0; i < l.n; i++) {
-        float hq, d = cand_dist(c, ns, l.q[i], &hq) * l.pen[i];
+    for (int i = 0; i < w->l.n; i++) {
+        float hq, d = cand_dist(c, w->ns, w->l.q[i], &hq) * w->l.pen[i];
         if (i == 0 || d < best_d) {
-            best = l.q[i];
+            best = w->l.q[i];
             best_d = d;
             best_h = hq;
         }
     }
-    ptrdiff_t at = (ptrdiff_t)y * v->stride + x;
-    v->S[at] = best;
-    v->V[at] = best_h / c->m2q;
+    *S = best;
+    *V = best_h / c->m2q;
+}
+
+static void correct_batch(const corr_ctx *c, const pg_synth_view *v, int y, int x0, int cnt) {
+    texel_work w[BATCH];
+    for (int i = 0; i < cnt; i++) {
+        load_nbhd(v, x0 + 2 * i, y, &w[i].n);
+        prefetch_targets(c, &w[i].n);
+    }
+    for (int i = 0; i < cnt; i++) {
+        target_nbhd(c, &w[i].n, w[i].ns);
+        gather_candidates(c, &w[i].n, &w[i].l);
+        prefetch_candidates(c, &w[i].l);
+    }
+    for (int i = 0; i < cnt; i++) {
+        ptrdiff_t at = (ptrdiff_t)y * v->stride + x0 + 2 * i;
+        choose(c, &w[i], &v->S[at], &v->V[at]);
+    }
 }
 
 void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_synth_params *p,
@@ -283,7 +338,9 @@ void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_s
     for (int y = 0; y < v->h; y++) {
         if ((int)((v->gy + y) & 1) != py) continue;
         int x0 = (int)((v->gx & 1) != px);
-        for (int x = x0; x < v->w; x += 2)
-            correct_texel(&c, v, x, y);
+        for (int x = x0; x < v->w; x += 2 * BATCH) {
+            int cnt = (v->w - x + 1) / 2;
+            correct_batch(&c, v, y, x, cnt < BATCH ? cnt : BATCH);
+        }
     }
 }

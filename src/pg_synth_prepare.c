@@ -29,7 +29,7 @@ void pg_synth_exemplar_params_default(pg_synth_exemplar_params *p) {
     p->k = 2;
     p->min_separation = 0.05;
     p->height_weight = 1.0;
-    p->patchmatch_iters = 4;
+    p->patchmatch_iters = 3;
     p->seed = 1;
 }
 

@@ -22,6 +22,7 @@
 #define PLANETGEN_PG_SYNTH_H
 
 #include "planetgen/pg_common.h"
+#include "planetgen/pg_cube.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -80,7 +81,8 @@ typedef struct pg_synth_exemplar {
     float pca_mean[PG_SYNTH_MAX_LEVELS][100];
     float lab_height_scale; /* height channel = metres * this (before Gaussian weights) */
     float height_min, height_max;
-    uint64_t key; /* cache key */
+    uint64_t key;      /* cache key */
+    pg_cube_grid grid; /* 1 tile of E per face: wraps coordinates across exemplar seams */
 } pg_synth_exemplar;
 
 typedef struct pg_synth_prep_info {
@@ -121,7 +123,9 @@ static inline size_t pg_synth_texel(const pg_synth_exemplar *ex, uint32_t c) {
  * level's height E_s, used to reconstruct R = E_s(S) + V for pit removal. */
 float pg_synth_level_height(const pg_synth_exemplar *ex, int scale, uint32_t c);
 
-/* Move coordinate c by (du, dv) texels: wraps on a torus, clamps into the face otherwise. */
+/* Move coordinate c by (du, dv) texels: wraps on a torus; on the cube, a move past a face
+ * edge continues on the neighbouring face (pg_cube_wrap), so coordinates never pile up
+ * at an edge. |du|, |dv| < E. */
 uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv);
 
 /* ---------------------------------- synthesis ---------------------------------- */
