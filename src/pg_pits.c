@@ -3,6 +3,7 @@
  * offset correction (Scott & Dodgson 2021 §5: R' = remove(R), offsets += R' - R). */
 #include "pg_pits_internal.h"
 
+#include <omp.h>
 #include <stdlib.h>
 
 void pg_pits_opts_default(pg_pits_opts *o) {
@@ -49,6 +50,8 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
                           pg_pits_result *res, pg_error *err) {
     switch (o->method) {
     case PG_PITS_FILL:
+        if (!o->epsilon && (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096)))
+            return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
         return pits_breach_soille2004(t, h, o, res, err);

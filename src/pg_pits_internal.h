@@ -120,6 +120,8 @@ static inline uint32_t pits_fifo_pop(pits_fifo *f) {
 pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uint8_t **state,
                      pits_heap *q, uint64_t *nsinks, pg_error *err);
 
+/* (q may be NULL: no seeding, for floods that seed themselves.) */
+
 /* Puts the no-data value back into the cells marked PITS_NODATA. */
 void pits_end(const pg_pits_topo *t, float *h, const pg_pits_opts *o, const uint8_t *state);
 
@@ -130,6 +132,8 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
                                          pg_pits_result *res, pg_error *err);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
+pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                        pg_pits_result *res, pg_error *err);
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                   pg_pits_result *res, pg_error *err);
 

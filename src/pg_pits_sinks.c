@@ -176,8 +176,8 @@ pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uin
         lowest_cell_sink(t, h, st);
         *nsinks = 1;
     }
-    seed(t, st, q);
-    if (q->oom) {
+    if (q) seed(t, st, q);
+    if (q && q->oom) {
         free(st);
         pits_heap_free(q);
         return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for the priority queue");

@@ -104,6 +104,15 @@ static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, in
             assert_int_equal(pg_pits_stats_compute(t, h, &o, NULL, &st, NULL), PG_OK);
             assert_int_equal(st.depressions, 0);
             assert_true(r.raised + r.lowered > 0);
+            if (m == 0 && !eps) { /* tiled parallel fill (tiles span face seams) */
+                float *p = malloc(sizeof(float) * g.n);
+                memcpy(p, dem, sizeof(float) * g.n);
+                o.tile_rows = 5;
+                assert_int_equal(pg_pits_remove(t, p, &o, NULL, NULL), PG_OK);
+                o.tile_rows = 0;
+                assert_memory_equal(p, h, sizeof(float) * g.n);
+                free(p);
+            }
             free(h);
         }
     free(sk);

@@ -92,7 +92,8 @@ static void test_all_methods_drain(void **state) {
     }
 }
 
-/* Plain fill equals the brute-force minimal fill, bit for bit. */
+/* Plain fill, serial and tiled-parallel (Barnes 2016), equals the brute-force minimal
+ * fill bit for bit. */
 static void test_exact_fill(void **state) {
     (void)state;
     for (uint32_t seed = 100; seed < 160; seed++) {
@@ -113,12 +114,17 @@ static void test_exact_fill(void **state) {
         }
         o.lakes = lakes;
         float *out = malloc(sizeof(float) * g.n);
-        memcpy(out, dem, sizeof(float) * g.n);
-        assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
         uint8_t *sk = chk_sinks(dem, g.n, o.has_sea_level, o.sea_level, lakes, o.open_edges, w, h);
         float *ref = chk_minimal_fill(&g, dem, sk);
-        for (size_t i = 0; i < g.n; i++)
-            assert_true(out[i] == ref[i]);
+        /* serial (tiny grids), then the tiled parallel fill with 1-, 2- and 5-row tiles */
+        int tiles[] = {0, 1, 2, 5};
+        for (int k = 0; k < 4; k++) {
+            memcpy(out, dem, sizeof(float) * g.n);
+            o.tile_rows = tiles[k];
+            assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+            for (size_t i = 0; i < g.n; i++)
+                assert_true(out[i] == ref[i]);
+        }
         free(ref);
         free(sk);
         free(out);

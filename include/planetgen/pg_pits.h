@@ -112,7 +112,10 @@ typedef struct pg_pits_opts {
     bool open_edges;      /* grid only: border cells are outlets (GIS convention) */
     bool has_nodata;      /* cells == nodata (or NaN) are sinks, left unchanged; */
     float nodata;         /* without has_nodata, NaN cells are PG_ERR_BADINPUT */
-    int threads;          /* 0 = OpenMP default; results never depend on it */
+    /* Plain fill runs the tiled parallel Priority-Flood (Barnes 2016) when more than
+     * one OpenMP thread is available or tile_rows > 0 (rows per tile; 0 = automatic).
+     * Its result is bit-identical to the serial fill. Thread count: OpenMP's. */
+    int tile_rows;
 } pg_pits_opts;
 
 /* Defaults: breach with epsilon, no sea level, no lakes, closed edges, no no-data,
