@@ -40,12 +40,14 @@ static void bench_halo(int w, size_t elem, pg_cube_vec_kind vec, const char *lab
     pg_cube_grid g;
     pg_cube_grid_init(&g, PG_CUBE_EQUIANGULAR, 8, 256, NULL);
     int64_t N = g.n, S = g.tile_size, P = S + 2 * w;
-    unsigned char *field = calloc((size_t)6 * N * N, elem);
+    unsigned char *field = malloc((size_t)6 * N * N * elem);
+    for (size_t i = 0; i < (size_t)6 * N * N * elem; i++)
+        field[i] = (unsigned char)(i * 131);
     int nt = omp_get_max_threads();
     unsigned char *pad = calloc((size_t)nt * P * P, elem);
     pg_cube_payload pl = {elem, vec, 0, NULL, NULL};
     double best = 1e30;
-    for (int rep = 0; rep < 3; rep++) {
+    for (int rep = 0; rep < 10; rep++) {
         double t = now();
 #pragma omp parallel for schedule(static)
         for (int64_t k = 0; k < g.ntiles; k++)

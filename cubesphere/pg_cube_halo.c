@@ -102,13 +102,20 @@ static void copy_strip(const halo_job *j, const pg_cube_neighbor *nb, int64_t x0
     int64_t base = (nf * n + nty * S + by) * n + ntx * S + bx;
     int64_t sx = (ey - by) * n + (ex - bx), sy = (fy - by) * n + (fx - bx);
     int rot = nb->xf.rot;
+    int plain = !rot || (!j->pl->rotate && j->pl->vec == PG_CUBE_VEC_NONE);
     for (int64_t y = y0; y < y1; y++) {
         unsigned char *d = j->padded + ((y + j->w) * j->P + x0 + j->w) * sz;
         int64_t s = base + (y - y0) * sy;
-        for (int64_t x = x0; x < x1; x++, s += sx, d += sz) {
-            copy_elem(d, j->field + s * sz, sz);
-            rotate_elem(j->pl, d, rot);
+        if (sx == 1) { /* the strip runs along source rows: one copy per row */
+            memcpy(d, j->field + s * sz, (size_t)(x1 - x0) * sz);
+        } else {
+            for (int64_t x = x0; x < x1; x++, s += sx, d += sz)
+                copy_elem(d, j->field + s * sz, sz);
+            d -= (size_t)(x1 - x0) * sz;
         }
+        if (!plain)
+            for (int64_t x = x0; x < x1; x++, d += sz)
+                rotate_elem(j->pl, d, rot);
     }
 }
 

@@ -9,6 +9,8 @@
 #include <math.h>
 #include <string.h>
 
+#define PG_PI 3.14159265358979323846
+
 static const pg_cube_projection PROJS[3] = {PG_CUBE_GNOMONIC, PG_CUBE_EQUIANGULAR,
                                             PG_CUBE_EQUALAREA};
 
@@ -104,7 +106,7 @@ static void test_inverse_round_trip(void **state) {
 /* Equal area: the Jacobian |dd/du x dd/dv| is constant = (4 pi / 6) / 4. */
 static void test_equal_area_jacobian(void **state) {
     (void)state;
-    const double h = 1e-6, want = 4 * M_PI / 6 / 4;
+    const double h = 1e-6, want = 4 * PG_PI / 6 / 4;
     double lo = 1e9, hi = 0;
     for (int j = -9; j <= 9; j++) {
         for (int i = -9; i <= 9; i++) {

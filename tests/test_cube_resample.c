@@ -14,7 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const double DEG = M_PI / 180;
+#define PG_PI 3.14159265358979323846
+
+static const double DEG = PG_PI / 180;
 
 /* A smooth function of direction. */
 static double smooth(const double d[3]) {
