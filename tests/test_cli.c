@@ -9,7 +9,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 
 static char g_dir[1024]; /* scratch dir with the bad inputs */
 
@@ -160,11 +165,100 @@ static void test_exemplar_success(void **s) {
     assert_int_equal(count_lines(err), 2);
 }
 
+/* Does dir contain a staged temporary file yet? */
+static int has_tmp_file(const char *dir) {
+    DIR *d = opendir(dir);
+    if (!d) return 0;
+    struct dirent *e;
+    int found = 0;
+    while ((e = readdir(d)))
+        if (strncmp(e->d_name, ".tmp-", 5) == 0) found = 1;
+    closedir(d);
+    return found;
+}
+
+/* SIGTERM / SIGINT while outputs are being written: non-zero exit, nothing left. */
+static void interrupt_mid_write(int sig) {
+    char dir[1024], out[1200];
+    pg_test_scratch_dir(sig == SIGTERM ? "cli_sigterm" : "cli_sigint", dir, sizeof dir);
+    snprintf(out, sizeof out, "%s/out", dir);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        /* a big grid makes the preview stage take seconds */
+        execl(pg_test_cli(), "planetgen", "exemplar", "--grid-width", "10800", "-q", "-o", out,
+              (char *)NULL);
+        _exit(127);
+    }
+    int waited_ms = 0;
+    while (!has_tmp_file(out) && waited_ms < 120000) {
+        struct timespec ts = {0, 20 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+        waited_ms += 20;
+    }
+    assert_true(has_tmp_file(out)); /* we really interrupt a write in progress */
+    kill(pid, sig);
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 128 + sig);
+    struct stat st;
+    assert_int_not_equal(stat(out, &st), 0); /* the dir we created is gone, and empty */
+}
+
+static void test_sigterm_leaves_nothing(void **s) {
+    (void)s;
+    interrupt_mid_write(SIGTERM);
+}
+
+static void test_sigint_leaves_nothing(void **s) {
+    (void)s;
+    interrupt_mid_write(SIGINT);
+}
+
+/* A full disk, emulated with a file-size limit: exit 1, one line, nothing left. */
+static void test_full_disk(void **s) {
+    (void)s;
+    char dir[1024], cmd[4096], errp[1200], err[4096] = {0};
+    pg_test_scratch_dir("cli_fulldisk", dir, sizeof dir);
+    snprintf(errp, sizeof errp, "%s/stderr.txt", dir);
+    snprintf(cmd, sizeof cmd, "ulimit -f 500; '%s' exemplar -q -o '%s/out' 2>'%s'",
+             pg_test_cli(), dir, errp);
+    int st = system(cmd);
+    assert_true(WIFEXITED(st));
+    assert_int_equal(WEXITSTATUS(st), 1);
+    FILE *f = fopen(errp, "r");
+    assert_non_null(f);
+    size_t n = fread(err, 1, sizeof err - 1, f);
+    err[n] = '\0';
+    fclose(f);
+    print_message("%s", err);
+    assert_int_equal(count_lines(err), 1);
+    assert_non_null(strstr(err, "albedo.png: write failed"));
+    assert_null(strstr(err, ".tmp-")); /* the user is told the final name */
+    char out[1200];
+    snprintf(out, sizeof out, "%s/out", dir);
+    struct stat sb;
+    assert_int_not_equal(stat(out, &sb), 0);
+}
+
+/* An output path that cannot be created: bad input, exit 2, one line. */
+static void test_unwritable_output(void **s) {
+    (void)s;
+    char out[8192], err[8192];
+    int rc = pg_test_run_cli("exemplar -o /proc/planetgen-out", out, sizeof out, err, sizeof err);
+    assert_int_equal(rc, 2);
+    assert_int_equal(count_lines(err), 1);
+    assert_non_null(strstr(err, "-o /proc/planetgen-out"));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_help_version),     cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_nan_inf_heights),  cmocka_unit_test(test_bad_options),
-        cmocka_unit_test(test_exemplar_success),
+        cmocka_unit_test(test_exemplar_success), cmocka_unit_test(test_sigterm_leaves_nothing),
+        cmocka_unit_test(test_sigint_leaves_nothing), cmocka_unit_test(test_full_disk),
+        cmocka_unit_test(test_unwritable_output),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -196,5 +196,11 @@ extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, i
     if (!ok)
         return pg_error_set(err, PG_ERR_IO, "%s: write failed (%s)", path,
                             one_line(out->geterror()).c_str());
+    // libpng inside OpenImageIO does not report a short write (full disk, file-size
+    // limit): the file would silently end early. Read its chunk structure back.
+    pg_error chk = {PG_OK, {0}};
+    if (pg_image_png_check(path, &chk) != PG_OK)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed, file is incomplete (disk full?)",
+                            path);
     return PG_OK;
 }

@@ -136,14 +136,16 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
     eo.max_pixels = a.max_mpx > 0 ? (uint64_t)(a.max_mpx * 1e6) : 0;
     pg_error err = {0};
     pg_exemplar ex;
+    /* The output dir is checked first (and removed again if we fail), so an
+     * unwritable -o is reported before any work is spent. */
+    if (pg_cli_prepare_outdir(cli, a.outdir, &err) != PG_OK) return pg_cli_fail(cli, &err);
     pg_cli_stage_begin(cli, "load exemplar");
     if (pg_exemplar_load(&eo, &ex, &err) != PG_OK) return pg_cli_fail(cli, &err);
     pg_cli_stage_end(cli);
     pg_exemplar_stats s;
     pg_exemplar_compute_stats(&ex, &s);
     pg_cli_stage_begin(cli, "write previews");
-    pg_status st = pg_cli_prepare_outdir(cli, a.outdir, &err);
-    if (st == PG_OK) st = write_previews(cli, a.outdir, &ex, &err);
+    pg_status st = write_previews(cli, a.outdir, &ex, &err);
     if (st != PG_OK) {
         pg_exemplar_free(&ex);
         return pg_cli_fail(cli, &err);

@@ -16,6 +16,7 @@ typedef struct pg_command {
 
 static const pg_command pg_commands[] = {
     {"exemplar", pg_cmd_exemplar, "load an exemplar, print its statistics, write previews"},
+    {"export", pg_cmd_export, "export a planet: glTF globe, EXR heights, previews"},
     {"grid", pg_cmd_grid, "describe a cube-sphere grid: counts, texel areas, distortion"},
     {"pits", pg_cmd_pits, "remove pits from a DEM (fill, breach, hybrid) or count them"},
     {"synth", pg_cmd_synth, "synthesize a flat N x N terrain by example (Lefebvre-Hoppe)"},
@@ -39,12 +40,16 @@ static const pg_command *find_command(const char *name) {
 
 static int run_command(const pg_command *c, int argc, char **argv) {
     pg_cli cli;
-    memset(&cli, 0, sizeof cli);
-    cli.cmd = c->name;
+    pg_cli_init(&cli, c->name);
+    if (pg_cli_watch_signals(&cli) != 0) {
+        fprintf(stderr, "planetgen %s: cannot start the signal watcher\n", c->name);
+        return 1;
+    }
     return c->run(&cli, argc, argv);
 }
 
 int main(int argc, char **argv) {
+    pg_cli_block_signals(); /* before any thread exists, so all inherit the mask */
     if (argc < 2) {
         print_usage(stderr);
         return 2;

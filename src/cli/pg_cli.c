@@ -12,6 +12,7 @@
 #include <errno.h>
 #include <math.h>
 #include <omp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,55 @@
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
+
+void pg_cli_init(pg_cli *cli, const char *cmd) {
+    memset(cli, 0, sizeof *cli);
+    cli->cmd = cmd;
+    pthread_mutex_init(&cli->lock, NULL);
+}
+
+void pg_cli_block_signals(void) {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set, NULL);
+    signal(SIGXFSZ, SIG_IGN);
+}
+
+/* Remove staged temporaries; the caller holds cli->lock. Safe while writers still
+ * have the files open: the names go, the data is freed when they close. */
+static void remove_staged_locked(pg_cli *cli) {
+    for (int i = 0; i < cli->nstaged; i++) unlink(cli->staged_tmp[i]);
+    if (cli->created_dir) rmdir(cli->created_dir);
+}
+
+static void *signal_watcher(void *arg) {
+    pg_cli *cli = arg;
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    int sig = 0;
+    if (sigwait(&set, &sig) != 0) return NULL;
+    /* Hold the lock for good: no commit may rename files after this point. */
+    pthread_mutex_lock(&cli->lock);
+    remove_staged_locked(cli);
+    char msg[160];
+    int n = snprintf(msg, sizeof msg, "\nplanetgen %s: interrupted by %s; no output written\n",
+                     cli->cmd, sig == SIGINT ? "SIGINT" : "SIGTERM");
+    if (write(STDERR_FILENO, msg + (cli->tty ? 0 : 1), (size_t)n - (cli->tty ? 0 : 1)) < 0) {
+        /* nothing more to do: we are exiting */
+    }
+    _exit(128 + sig);
+}
+
+int pg_cli_watch_signals(pg_cli *cli) {
+    pthread_t t;
+    if (pthread_create(&t, NULL, signal_watcher, cli) != 0) return -1;
+    pthread_detach(t);
+    return 0;
+}
 
 static double now_s(void) {
     struct timespec ts;
@@ -298,14 +348,19 @@ const char *pg_cli_output_path(pg_cli *cli, const char *dir, const char *name) {
     snprintf(fin, sizeof fin, "%s/%s", dir, name);
     /* Keep the extension last so libraries that pick a format by suffix still work. */
     snprintf(tmp, sizeof tmp, "%s/.tmp-%d-%s", dir, (int)getpid(), name);
+    pthread_mutex_lock(&cli->lock);
     char **t = realloc(cli->staged_tmp, (cli->nstaged + 1) * sizeof *t);
     if (t) cli->staged_tmp = t;
     char **f = realloc(cli->staged_final, (cli->nstaged + 1) * sizeof *f);
     if (f) cli->staged_final = f;
-    if (!t || !f) return NULL;
-    cli->staged_tmp[cli->nstaged] = strdup(tmp);
-    cli->staged_final[cli->nstaged] = strdup(fin);
-    return cli->staged_tmp[cli->nstaged++];
+    const char *ret = NULL;
+    if (t && f) {
+        cli->staged_tmp[cli->nstaged] = strdup(tmp);
+        cli->staged_final[cli->nstaged] = strdup(fin);
+        ret = cli->staged_tmp[cli->nstaged++];
+    }
+    pthread_mutex_unlock(&cli->lock);
+    return ret;
 }
 
 static void free_staged(pg_cli *cli) {
@@ -320,34 +375,51 @@ static void free_staged(pg_cli *cli) {
 }
 
 pg_status pg_cli_commit(pg_cli *cli, pg_error *err) {
+    pthread_mutex_lock(&cli->lock);
+    pg_status st = PG_OK;
     for (int i = 0; i < cli->nstaged; i++) {
         if (rename(cli->staged_tmp[i], cli->staged_final[i]) != 0) {
             pg_error_set(err, PG_ERR_IO, "%s: cannot rename into place: %s",
                          cli->staged_final[i], strerror(errno));
             /* Remove what is not yet renamed; renamed files are complete. */
             for (int j = i; j < cli->nstaged; j++) unlink(cli->staged_tmp[j]);
-            free_staged(cli);
-            return PG_ERR_IO;
+            st = PG_ERR_IO;
+            break;
         }
     }
     free_staged(cli);
-    return PG_OK;
+    pthread_mutex_unlock(&cli->lock);
+    return st;
 }
 
 void pg_cli_abort(pg_cli *cli) {
-    for (int i = 0; i < cli->nstaged; i++) unlink(cli->staged_tmp[i]);
+    pthread_mutex_lock(&cli->lock);
+    remove_staged_locked(cli); /* rmdir only succeeds if empty: never removes user files */
     free_staged(cli);
-    if (cli->created_dir) {
-        rmdir(cli->created_dir); /* only succeeds if empty: never removes user files */
-        free(cli->created_dir);
-        cli->created_dir = NULL;
+    free(cli->created_dir);
+    cli->created_dir = NULL;
+    pthread_mutex_unlock(&cli->lock);
+}
+
+/* Messages from writers name the temporary file they wrote; the user knows the
+ * final name, so print that instead. */
+static void print_failure(pg_cli *cli, const char *msg) {
+    pthread_mutex_lock(&cli->lock);
+    for (int i = 0; i < cli->nstaged; i++) {
+        const char *hit = strstr(msg, cli->staged_tmp[i]);
+        if (!hit) continue;
+        fprintf(stderr, "planetgen %s: %.*s%s%s\n", cli->cmd, (int)(hit - msg), msg,
+                cli->staged_final[i], hit + strlen(cli->staged_tmp[i]));
+        pthread_mutex_unlock(&cli->lock);
+        return;
     }
+    pthread_mutex_unlock(&cli->lock);
+    fprintf(stderr, "planetgen %s: %s\n", cli->cmd, msg);
 }
 
 int pg_cli_fail(pg_cli *cli, const pg_error *err) {
     if (cli->tty && !cli->quiet) fputc('\n', stderr);
-    fprintf(stderr, "planetgen %s: %s\n", cli->cmd,
-            err && err->msg[0] ? err->msg : "failed");
+    print_failure(cli, err && err->msg[0] ? err->msg : "failed");
     pg_cli_abort(cli);
     pg_json_free(cli->report);
     cli->report = NULL;

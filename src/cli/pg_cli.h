@@ -12,6 +12,7 @@
 
 #include "planetgen/pg_common.h"
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 
@@ -61,7 +62,20 @@ typedef struct pg_cli {
     int nstaged;
     char **staged_tmp, **staged_final;
     char *created_dir; /* output dir created by us, removed on failure if empty */
+    /* Guards the staged-file list against the signal watcher (pg_cli_watch_signals). */
+    pthread_mutex_t lock;
 } pg_cli;
+
+/* Initialise a pg_cli for command `cmd`. */
+void pg_cli_init(pg_cli *cli, const char *cmd);
+
+/* SIGINT/SIGTERM handling without global state: the caller blocks both signals
+ * before any thread starts (pg_cli_block_signals), then a watcher thread waits for
+ * them with sigwait; on one it deletes every staged temporary file (and the output
+ * dir if we created it and it is empty), prints one line and exits 130 (SIGINT) or
+ * 143 (SIGTERM). SIGXFSZ is ignored so a file-size limit surfaces as a write error. */
+void pg_cli_block_signals(void);
+int pg_cli_watch_signals(pg_cli *cli);
 
 /* Parse argv against specs plus the common options (--json, --quiet, --verbose,
  * --threads, --help). Positional arguments go to pos (at most max_pos). Returns 0,
