@@ -228,6 +228,21 @@ pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
         if (stat(path, &st) != 0)
             return pg_error_set(err, PG_ERR_BADINPUT, "%s: missing %s", dir, name);
     }
+    /* The face images must have the size planet.json claims, checked from their
+     * headers before the planet is allocated: a damaged or hostile planet.json must
+     * not make us allocate terabytes. */
+    int64_t n = (int64_t)meta.tiles * meta.tile_size;
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        char name[64];
+        int w, h, c;
+        pg_planet_albedo_name(f, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        s = pg_image_probe(path, &w, &h, &c, err);
+        if (s != PG_OK) return s;
+        if (w != n || h != n)
+            return pg_error_set(err, PG_ERR_BADINPUT, "%s: %dx%d, but %s says %lldx%lld", path, w,
+                                h, PG_PLANET_META_NAME, (long long)n, (long long)n);
+    }
     pg_cube_projection proj;
     s = pg_cube_projection_parse(meta.projection, PG_PLANET_META_NAME, &proj, err);
     if (s == PG_OK) s = pg_planet_alloc(p, proj, meta.tiles, meta.tile_size, meta.ellipsoid, err);
