@@ -123,6 +123,9 @@ static pg_status check(const pg_synth_exemplar *ex, int n, const pg_synth_params
         return pg_error_set(err, PG_ERR_BADINPUT, "--passes %d: must be in 0..16", p->passes);
     if (!(p->kappa >= 0 && p->kappa <= 100))
         return pg_error_set(err, PG_ERR_BADINPUT, "--kappa %g: must be in [0, 100]", p->kappa);
+    if (!(p->offset_penalty >= 0 && p->offset_penalty <= 1e6))
+        return pg_error_set(err, PG_ERR_BADINPUT, "--offset-penalty %g: must be >= 0",
+                            p->offset_penalty);
     if (!ex) return pg_error_set(err, PG_ERR_BADINPUT, "synthesis: no exemplar");
     return PG_OK;
 }

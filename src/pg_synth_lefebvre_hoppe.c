@@ -17,8 +17,11 @@
  *              those cost (1 + kappa) times more: the jump penalty). For each candidate
  *              q the offset hq = mean over D of (N_S,1 - A_1(q + hD)) is the best shift
  *              of component 1, the local mean height (Gain et al.); the candidate's
- *              distance uses component 1 shifted by hq. The winner sets S[p] = q and
- *              V[p] = hq (replaced, not accumulated).
+ *              distance uses component 1 shifted by hq. With albedo in the appearance
+ *              an unpenalised shift would let ocean-coloured patches float at any
+ *              height, so a shift costs lambda * 4 * hq^2 (lambda = offset_penalty;
+ *              0 is Gain's original), which shrinks hq to mean / (1 + lambda). The winner sets S[p]
+ * = q and V[p] = hq (replaced, not accumulated).
  *
  * Why sub-passes are order-independent: a texel of parity class c reads only texels of
  * other classes and its own (incumbent) value, and writes only itself; so every
@@ -91,6 +94,7 @@ void pg_synth_params_default(pg_synth_params *p) {
     p->passes = 2;
     p->kappa = 0.1;
     p->height_offsets = true;
+    p->offset_penalty = 1.0;
     p->tile_size = 0;
 }
 
@@ -149,6 +153,7 @@ typedef struct corr_ctx {
     float m2q;   /* metres -> quantized appearance units of component 1 */
     float kappa; /* jump penalty factor - 1 */
     bool offsets;
+    float lambda; /* offset penalty */
 } corr_ctx;
 
 static inline const int16_t *app_at(const corr_ctx *c, uint32_t q) {
@@ -245,8 +250,9 @@ static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS],
             rest += t * t;
         }
     }
-    mean = c->offsets ? mean * (1.0f / ND) : 0.0f;
-    float first = 0;
+    /* argmin over h of sum (d1 - h)^2 + lambda ND h^2 is mean(d1) / (1 + lambda) */
+    mean = c->offsets ? mean * (1.0f / ND) / (1.0f + c->lambda) : 0.0f;
+    float first = c->lambda * ND * mean * mean;
     for (int d = 0; d < ND; d++)
         first += (d1[d] - mean) * (d1[d] - mean);
     *hoff = mean;
@@ -332,7 +338,8 @@ void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_s
                   .dims = ex->dims,
                   .m2q = ex->metres_to_app / ex->app_scale[scale],
                   .kappa = (float)p->kappa,
-                  .offsets = p->height_offsets};
+                  .offsets = p->height_offsets,
+                  .lambda = (float)p->offset_penalty};
     const int px = parity & 1, py = parity >> 1;
 #pragma omp parallel for schedule(dynamic, 4) if (v->w * v->h >= 16384)
     for (int y = 0; y < v->h; y++) {

@@ -204,7 +204,7 @@ static void test_bad_parameters(void **state) {
 static void test_cache_roundtrip(void **state) {
     (void)state;
     char dir[512];
-    pg_test_scratch_dir("synth-cache", dir, sizeof dir);
+    pg_test_scratch_dir("synth-cache-torus", dir, sizeof dir);
     float *rgb = malloc(sizeof(float) * TS * TS * 3), *h = malloc(sizeof(float) * TS * TS);
     make_torus(rgb, h, TS);
     pg_synth_exemplar_params p;

@@ -135,9 +135,10 @@ typedef struct pg_synth_params {
     double jitter;                                /* r_l for every level, in [0,1]; default 0.4 */
     double jitter_level[PG_SYNTH_MAX_LEVELS + 8]; /* per-scale override; <0 = use jitter */
     int passes;                                   /* correction passes c per level; default 2 */
-    double kappa;        /* jump penalty: k-coherence candidates cost * (1 + kappa); 0.1 */
-    bool height_offsets; /* Gain et al. offsets V; default true */
-    int tile_size;       /* flat driver: correction tile size (0 = whole level) */
+    double kappa;          /* jump penalty: k-coherence candidates cost * (1 + kappa); 0.1 */
+    bool height_offsets;   /* Gain et al. offsets V; default true */
+    double offset_penalty; /* lambda: an offset h costs lambda*4*h^2; 0 = Gain; default 1 */
+    int tile_size;         /* flat driver: correction tile size (0 = whole level) */
 } pg_synth_params;
 
 void pg_synth_params_default(pg_synth_params *p);

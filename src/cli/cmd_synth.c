@@ -19,8 +19,8 @@
 typedef struct synth_args {
     const char *albedo, *height, *outdir, *cache_dir;
     long size, seed, passes, tile_size, face_size, levels;
-    double jitter, kappa, height_scale, height_offset, height_weight;
-    bool no_offsets;
+    double jitter, kappa, offset_penalty, height_scale, height_offset, height_weight;
+    bool no_offsets, no_cache;
 } synth_args;
 
 /* Bytes per output texel beyond the synthesis buffers: albedo, height, coords, and the
@@ -129,7 +129,8 @@ static pg_status load_and_prepare(const synth_args *a, pg_synth_exemplar **ex,
 }
 
 int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
-    synth_args a = {NULL, NULL, "out", NULL, 0, 1, 2, 0, 512, 6, 0.4, 0.1, NAN, NAN, 1.0, false};
+    synth_args a = {NULL, NULL, "out", NULL, 0,   1,   2,   0,     512,
+                    6,    0.4,  0.1,   1.0,  NAN, NAN, 1.0, false, false};
     const pg_opt opts[] = {
         {"--size", NULL, PG_OPT_INT, &a.size, 1, 1e12, NULL, "N",
          "output is N x N texels, N a power of two (required)"},
@@ -143,6 +144,8 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
          "correction passes per level (default 2)"},
         {"--kappa", NULL, PG_OPT_DOUBLE, &a.kappa, 0, 100, NULL, "K",
          "jump penalty for k-coherence candidates (default 0.1)"},
+        {"--offset-penalty", NULL, PG_OPT_DOUBLE, &a.offset_penalty, 0, 1e6, NULL, "L",
+         "cost lambda of a height offset h: lambda*4*h^2 (0 = Gain et al.; default 1)"},
         {"--no-offsets", NULL, PG_OPT_FLAG, &a.no_offsets, 0, 0, NULL, NULL,
          "disable Gain et al. height offsets"},
         {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 0, 1 << 20, NULL, "T",
@@ -162,7 +165,9 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
         {"--height-weight", NULL, PG_OPT_DOUBLE, &a.height_weight, 0, 1000, NULL, "W",
          "height weight w_h relative to the albedo in appearance space (default 1)"},
         {"--cache-dir", NULL, PG_OPT_STRING, &a.cache_dir, 0, 0, NULL, "DIR",
-         "exemplar cache (default $XDG_CACHE_HOME/planetgen; '' disables)"},
+         "exemplar cache (default $XDG_CACHE_HOME/planetgen or ~/.cache/planetgen)"},
+        {"--no-cache", NULL, PG_OPT_FLAG, &a.no_cache, 0, 0, NULL, NULL,
+         "neither read nor write the exemplar cache"},
         PG_OPT_END};
     const char *pos[1];
     int npos;
@@ -192,6 +197,7 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
     sp.passes = (int)a.passes;
     sp.kappa = a.kappa;
     sp.height_offsets = !a.no_offsets;
+    sp.offset_penalty = a.offset_penalty;
     sp.tile_size = (int)a.tile_size;
     pg_synth_result r;
     pg_cli_stage_begin(cli, "synthesize");

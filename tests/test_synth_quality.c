@@ -1,0 +1,277 @@
+/* test_synth_quality.c - quality of flat synthesis from the real default exemplar
+ * (Blue Marble + Marble relief on the exemplar cube), with numbers:
+ *
+ *  - neighbourhood fidelity: appearance vectors are recomputed from the *output images*
+ *    (Lab albedo + weighted height, 5x5 Gaussian-weighted, the exemplar's own PCA basis)
+ *    and compared with their nearest exemplar vector (computed the same way from the
+ *    exemplar images). The mean distance must be <= 1.5 x the exemplar's leave-one-out
+ *    figure (nearest vector excluding texels within 2 of the query) and <= 0.5 x the
+ *    figure for an output of uniformly random coordinates;
+ *  - histograms: Wasserstein-1 distance of height and of albedo to the exemplar's;
+ *  - coherence: 4-connected patches where S[p + d] = S[p] + d; mean size floor and no
+ *    patch over 25% of the output.
+ * The prepared exemplar is cached in $PG_BUILD_DIR/synth-cache (shared with
+ * test_synth_cli), so only the first run pays the preparation. */
+#include "pg_test.h"
+
+#include "pg_synth_internal.h"
+#include "planetgen/pg_exemplar.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define N 512
+#define DBSTEP 4 /* exemplar database: every 4th texel in x and y */
+#define NQUERY 500
+
+static pg_synth_exemplar *ex;
+static pg_synth_result res;
+
+static int setup(void **state) {
+    (void)state;
+    pg_exemplar_opts eo;
+    pg_exemplar_opts_default(&eo);
+    pg_exemplar src;
+    pg_error err = {0};
+    if (pg_exemplar_load(&eo, &src, &err) != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s/synth-cache", getenv("PG_BUILD_DIR"));
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    pg_synth_prep_info info;
+    pg_status st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height,
+                                             src.sea_level, &ep, dir, &ex, &info, &err);
+    pg_exemplar_free(&src);
+    if (st != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    pg_synth_params p;
+    pg_synth_params_default(&p);
+    return pg_synth_flat(ex, N, &p, NULL, NULL, &res, &err) == PG_OK ? 0 : -1;
+}
+
+static int teardown(void **state) {
+    (void)state;
+    pg_synth_result_free(&res);
+    pg_synth_exemplar_free(ex);
+    return 0;
+}
+
+/* ---- appearance vectors from images ---- */
+
+/* Faces struct (no gutter, clamped reads) holding Lab + weighted height of `count`
+ * rendered texels laid out as nfaces images of size x size. */
+static pg_synth_faces image_faces(const uint8_t *rgb, const float *h, int nfaces, int size) {
+    pg_synth_faces f = {nfaces, size, 0, size, false, NULL};
+    size_t n = (size_t)nfaces * size * size;
+    f.px = malloc(n * PG_SYNTH_CH * sizeof(float));
+    for (size_t i = 0; i < n; i++) {
+        float c[3] = {rgb[i * 3] / 255.0f, rgb[i * 3 + 1] / 255.0f, rgb[i * 3 + 2] / 255.0f};
+        pg_synth_srgb_to_lab(c, f.px + i * PG_SYNTH_CH);
+        f.px[i * PG_SYNTH_CH + 3] = h[i] * ex->lab_height_scale;
+    }
+    return f;
+}
+
+static void vec_at(const pg_synth_faces *f, int face, int x, int y, float *v) {
+    float raw[PG_SYNTH_RAW];
+    pg_appearance_gather(f, face, x, y, 1, raw);
+    pg_appearance_project(ex, 0, raw, v);
+}
+
+typedef struct db {
+    float *v;
+    int *face, *x, *y;
+    int n;
+} db;
+
+/* Nearest database distance; texels within `excl` of (face, x, y) are skipped. */
+static double nearest(const db *d, const float *q, int face, int x, int y, int excl) {
+    double best = 1e300;
+    for (int i = 0; i < d->n; i++) {
+        if (excl && d->face[i] == face && abs(d->x[i] - x) <= excl && abs(d->y[i] - y) <= excl)
+            continue;
+        const float *v = d->v + (size_t)i * ex->dims;
+        double s = 0;
+        for (int k = 0; k < ex->dims; k++)
+            s += (q[k] - v[k]) * (q[k] - v[k]);
+        if (s < best) best = s;
+    }
+    return sqrt(best);
+}
+
+static double output_fidelity(const db *d, const uint32_t *coords, const float *offset) {
+    uint8_t *rgb = malloc((size_t)N * N * 3);
+    float *h = malloc(sizeof(float) * N * N);
+    pg_synth_render(ex, coords, offset, (size_t)N * N, rgb, h);
+    pg_synth_faces f = image_faces(rgb, h, 1, N);
+    double sum = 0;
+    for (int i = 0; i < NQUERY; i++) {
+        uint32_t r = pg_synth_hash(9, 0, 0, i, 0, 0);
+        int x = 2 + (int)(r % (N - 4)), y = 2 + (int)((r >> 16) % (N - 4));
+        float q[PG_SYNTH_MAX_DIMS];
+        vec_at(&f, 0, x, y, q);
+        sum += nearest(d, q, -1, 0, 0, 0);
+    }
+    pg_synth_faces_free(&f);
+    free(rgb);
+    free(h);
+    return sum / NQUERY;
+}
+
+static void test_neighbourhood_fidelity(void **state) {
+    (void)state;
+    const int E = ex->face_size, nf = ex->nfaces;
+    pg_synth_faces f = image_faces(ex->albedo, ex->height, nf, E);
+    db d = {0};
+    int cap = nf * (E / DBSTEP) * (E / DBSTEP);
+    d.v = malloc(sizeof(float) * cap * ex->dims);
+    d.face = malloc(sizeof(int) * cap * 3);
+    d.x = d.face + cap;
+    d.y = d.x + cap;
+    for (int face = 0; face < nf; face++)
+        for (int y = 2; y < E - 2; y += DBSTEP)
+            for (int x = 2; x < E - 2; x += DBSTEP) {
+                float v[PG_SYNTH_MAX_DIMS];
+                vec_at(&f, face, x, y, v);
+                memcpy(d.v + (size_t)d.n * ex->dims, v, sizeof(float) * ex->dims);
+                d.face[d.n] = face, d.x[d.n] = x, d.y[d.n] = y;
+                d.n++;
+            }
+    /* leave-one-out: exemplar queries on the database lattice, own 5x5 excluded */
+    double loo = 0;
+    for (int i = 0; i < NQUERY; i++) {
+        int j = (int)(pg_synth_hash(5, 0, 0, i, 0, 0) % (uint32_t)d.n);
+        loo += nearest(&d, d.v + (size_t)j * ex->dims, d.face[j], d.x[j], d.y[j], 2);
+    }
+    loo /= NQUERY;
+    double out = output_fidelity(&d, res.coords, res.offset);
+    uint32_t *rnd = malloc(sizeof(uint32_t) * N * N);
+    for (int i = 0; i < N * N; i++) {
+        uint32_t a = pg_synth_hash(77, 0, 0, i, 0, 0), b = pg_synth_hash(77, 0, 0, i, 0, 1);
+        rnd[i] = pg_synth_pack((int)(a % 6), (int)((a >> 4) % E), (int)(b % E));
+    }
+    double random = output_fidelity(&d, rnd, NULL);
+    print_message("neighbourhood distance: output %.3f, leave-one-out %.3f (ratio %.2f), random "
+                  "coordinates %.3f (ratio %.2f)\n",
+                  out, loo, out / loo, random, out / random);
+    assert_true(out <= 1.5 * loo);
+    assert_true(out <= 0.5 * random);
+    free(rnd);
+    free(d.v);
+    free(d.face);
+    pg_synth_faces_free(&f);
+}
+
+/* ---- histograms ---- */
+
+static int cmp_float(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* W1 between two samples: the mean |quantile difference| over 1000 quantiles. */
+static double wasserstein1(float *a, size_t na, float *b, size_t nb) {
+    qsort(a, na, sizeof(float), cmp_float);
+    qsort(b, nb, sizeof(float), cmp_float);
+    double s = 0;
+    for (int k = 0; k < 1000; k++) {
+        double q = (k + 0.5) / 1000;
+        s += fabs(a[(size_t)(q * na)] - b[(size_t)(q * nb)]);
+    }
+    return s / 1000;
+}
+
+static void test_histograms(void **state) {
+    (void)state;
+    size_t ne = (size_t)ex->nfaces * ex->face_size * ex->face_size, no = (size_t)N * N;
+    float *eh = malloc(sizeof(float) * ne), *oh = malloc(sizeof(float) * no);
+    float *rh = malloc(sizeof(float) * no);
+    uint8_t *orgb = malloc(no * 3);
+    pg_synth_render(ex, res.coords, res.offset, no, orgb, oh);
+    memcpy(eh, ex->height, sizeof(float) * ne);
+    for (size_t i = 0; i < no; i++) /* baseline: uniform noise over the exemplar's range */
+        rh[i] = ex->height_min + (ex->height_max - ex->height_min) *
+                                     (pg_synth_hash(3, 0, 0, (long)i, 0, 0) / 4294967296.0f);
+    float *tmp = malloc(sizeof(float) * no);
+    memcpy(tmp, oh, sizeof(float) * no);
+    double w_h = wasserstein1(tmp, no, eh, ne);
+    double w_hr = wasserstein1(rh, no, eh, ne);
+    double w_a = 0, w_ar = 0;
+    float *ea = malloc(sizeof(float) * ne), *oa = malloc(sizeof(float) * no);
+    for (int c = 0; c < 3; c++) {
+        for (size_t i = 0; i < ne; i++)
+            ea[i] = ex->albedo[i * 3 + c];
+        for (size_t i = 0; i < no; i++)
+            oa[i] = orgb[i * 3 + c];
+        w_a += wasserstein1(oa, no, ea, ne) / 3;
+        for (size_t i = 0; i < no; i++)
+            oa[i] = (float)(pg_synth_hash(4, c, 0, (long)i, 0, 0) % 256);
+        w_ar += wasserstein1(oa, no, ea, ne) / 3;
+    }
+    print_message("W1 height: output %.0f m, uniform-noise baseline %.0f m; W1 albedo: output "
+                  "%.1f, baseline %.1f (of 255)\n",
+                  w_h, w_hr, w_a, w_ar);
+    assert_true(w_h <= 600.0 && w_h <= 0.25 * w_hr);
+    assert_true(w_a <= 15.0 && w_a <= 0.25 * w_ar);
+    free(eh), free(oh), free(rh), free(orgb), free(tmp), free(ea), free(oa);
+}
+
+/* ---- coherence ---- */
+
+static int find(int *p, int i) {
+    while (p[i] != i)
+        i = p[i] = p[p[i]];
+    return i;
+}
+
+static void test_coherent_patches(void **state) {
+    (void)state;
+    int *par = malloc(sizeof(int) * N * N), *size = calloc(N * N, sizeof(int));
+    for (int i = 0; i < N * N; i++)
+        par[i] = i;
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            uint32_t c = res.coords[y * N + x];
+            if (x + 1 < N &&
+                res.coords[y * N + x + 1] ==
+                    pg_synth_pack(pg_synth_face(c), pg_synth_u(c) + 1, pg_synth_v(c)) &&
+                pg_synth_u(c) + 1 < ex->face_size)
+                par[find(par, y * N + x)] = find(par, y * N + x + 1);
+            if (y + 1 < N &&
+                res.coords[(y + 1) * N + x] ==
+                    pg_synth_pack(pg_synth_face(c), pg_synth_u(c), pg_synth_v(c) + 1) &&
+                pg_synth_v(c) + 1 < ex->face_size)
+                par[find(par, y * N + x)] = find(par, (y + 1) * N + x);
+        }
+    int patches = 0, biggest = 0;
+    for (int i = 0; i < N * N; i++)
+        size[find(par, i)]++;
+    for (int i = 0; i < N * N; i++)
+        if (size[i]) {
+            patches++;
+            if (size[i] > biggest) biggest = size[i];
+        }
+    double mean = (double)N * N / patches;
+    print_message("coherent patches: %d, mean size %.1f texels, largest %d (%.1f%% of output)\n",
+                  patches, mean, biggest, 100.0 * biggest / (N * N));
+    assert_true(mean >= 15.0);
+    assert_true(biggest <= N * N / 4);
+    free(par);
+    free(size);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_neighbourhood_fidelity),
+        cmocka_unit_test(test_histograms),
+        cmocka_unit_test(test_coherent_patches),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
