@@ -7,7 +7,8 @@
  * Mcells/s with 1 thread and with 2, checks that both give identical heights, and
  * counts the depressions before and after. Figures only; nothing is asserted.
  *
- * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats] */
+ * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats]
+ *                   [--only PREFIX]   (e.g. --only "fill (plain)") */
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_pits.h"
@@ -74,8 +75,8 @@ static void count(const char *what, const pg_pits_topo *t, const float *h, const
            st.depression_volume_m3, omp_get_wtime() - t0);
 }
 
-static void bench(const char *label, const pg_pits_topo *t, const float *dem, double sea,
-                  int stats) {
+static void bench(const char *label, const pg_pits_topo *t, const float *dem, double sea, int stats,
+                  const char *only) {
     size_t n = t->ncells;
     printf("%s: %llu cells (%.1f Mcells)\n", label, (unsigned long long)n, n / 1e6);
     pg_pits_opts o;
@@ -86,6 +87,7 @@ static void bench(const char *label, const pg_pits_topo *t, const float *dem, do
     if (stats) count("before", t, dem, &o);
     float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
     for (size_t r = 0; r < sizeof RUNS / sizeof *RUNS; r++) {
+        if (only && strncmp(RUNS[r].name, only, strlen(only))) continue;
         o.method = RUNS[r].m;
         o.epsilon = RUNS[r].eps;
         o.max_depth = 50;
@@ -120,6 +122,7 @@ static void bench(const char *label, const pg_pits_topo *t, const float *dem, do
 
 int main(int argc, char **argv) {
     int synthetic = 0, flat = 1, planet = 1, stats = 1;
+    const char *only = NULL; /* run only the methods whose name starts with this */
     long N = 2048;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--synthetic"))
@@ -132,9 +135,11 @@ int main(int argc, char **argv) {
             stats = 0;
         else if (!strcmp(argv[i], "--n") && i + 1 < argc)
             N = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--only") && i + 1 < argc)
+            only = argv[++i];
         else {
             fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] "
-                            "[--no-stats]\n");
+                            "[--no-stats] [--only PREFIX]\n");
             return 2;
         }
     }
@@ -166,7 +171,7 @@ int main(int argc, char **argv) {
     pg_pits_topo t;
     if (flat) {
         pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
-        bench("flat", &t, dem, sea, stats);
+        bench("flat", &t, dem, sea, stats, only);
     }
     if (planet) {
         float *cube = malloc(sizeof(float) * 6 * (size_t)N * N);
@@ -177,7 +182,7 @@ int main(int argc, char **argv) {
         pg_pits_topo_cube(&t, (uint32_t)N, NULL);
         char label[64];
         snprintf(label, sizeof label, "planet 6x%ld^2", N);
-        bench(label, &t, cube, sea, stats);
+        bench(label, &t, cube, sea, stats, only);
         free(cube);
     }
     free(dem);

@@ -63,6 +63,7 @@ typedef struct tiling {
     uint32_t *label;    /* 0 = not yet reached */
     uint64_t tile_size; /* cells per tile (whole rows) */
     uint32_t ntiles;
+    uint32_t bound; /* labels per tile: at least its perimeter cell count */
 } tiling;
 
 /* Ids [lo, hi) of a tile. */
@@ -83,38 +84,36 @@ static float eff(const tiling *g, uint32_t id) {
     return g->st[id] == PITS_CLOSED || g->st[id] == PITS_OPEN ? g->h[id] : -INFINITY;
 }
 
-/* Seeds of one tile: its sinks touching open cells, and its perimeter cells. */
-static void seed_tile(tiling *g, uint32_t tile, pits_heap *q, edge_vec *ev) {
+/* Seeds of one tile: its sinks touching open cells, and its perimeter cells, which
+ * get labels 2 + tile*bound + k. Cross-tile pairs go to `cross` as cell ids; they
+ * become label pairs once every tile has labelled its perimeter. */
+static void seed_tile(tiling *g, uint32_t tile, pits_heap *q, edge_vec *cross) {
     span sp = tile_span(g, tile);
-    uint32_t nb[8];
+    uint32_t nb[8], next = 2 + tile * g->bound;
     for (uint32_t id = sp.lo; id < sp.hi; id++) {
         int k = pg_pits_neighbours(g->t, id, nb), outside = 0, open = 0;
         for (int j = 0; j < k; j++) {
             int out = !inside(sp, nb[j]);
             outside |= out;
             open |= !out && g->st[nb[j]] == PITS_OPEN;
-            /* cross-tile edge, recorded once from the lower id */
-            if (out && nb[j] > id) {
-                uint32_t la = g->st[id] == PITS_OPEN ? id + 2 : OUTLET;
-                uint32_t lb = g->st[nb[j]] == PITS_OPEN ? nb[j] + 2 : OUTLET;
-                if (la != lb) edge_push(ev, la, lb, fmaxf(eff(g, id), eff(g, nb[j])));
-            }
+            /* cross-tile pair, recorded once from the lower id */
+            if (out && nb[j] > id) edge_push(cross, id, nb[j], fmaxf(eff(g, id), eff(g, nb[j])));
         }
         if (g->st[id] != PITS_OPEN) {
             g->label[id] = OUTLET;
             if (open) pits_heap_push(q, pits_key(-INFINITY, id));
         } else if (outside) {
-            g->label[id] = id + 2;
+            g->label[id] = next++;
             pits_heap_push(q, pits_key(g->h[id], id));
         }
     }
 }
 
 /* Stage 1 on one tile: Improved Priority-Flood with labels and spill edges. */
-static int flood_tile(tiling *g, uint32_t tile, edge_vec *ev) {
+static int flood_tile(tiling *g, uint32_t tile, edge_vec *ev, edge_vec *cross) {
     pits_heap q = {0};
     pits_fifo pit = {0};
-    seed_tile(g, tile, &q, ev);
+    seed_tile(g, tile, &q, cross);
     span sp = tile_span(g, tile);
     uint32_t nb[8];
     while (q.n || !pits_fifo_empty(&pit)) {
@@ -146,10 +145,17 @@ static int flood_tile(tiling *g, uint32_t tile, edge_vec *ev) {
     return oom;
 }
 
-/* Stage 2: minimax levels of all labels from the outlet. Labels are cell ids + 2,
- * so level[] is indexed by label directly (ncells + 2 entries). */
+/* Turn the cross-tile cell pairs into label pairs (perimeter labels are final). */
+static void label_cross_edges(const tiling *g, edge_vec *cross) {
+    for (size_t k = 0; k < cross->n; k++) {
+        cross->e[k].a = g->label[cross->e[k].a];
+        cross->e[k].b = g->label[cross->e[k].b];
+    }
+}
+
+/* Stage 2: minimax levels of all labels from the outlet (nl = 2 + ntiles*bound). */
 static int solve_levels(const tiling *g, edge_vec *ev, uint32_t nev, float *level) {
-    size_t nl = g->t->ncells + 2, total = 0;
+    size_t nl = 2 + (size_t)g->ntiles * g->bound, total = 0;
     for (uint32_t i = 0; i < nev; i++)
         total += ev[i].n;
     uint32_t *start = calloc(nl + 1, sizeof *start);
@@ -215,30 +221,43 @@ static uint32_t choose_tiles(const pg_pits_topo *t, const pg_pits_opts *o, uint6
     return (uint32_t)((t->ncells + *tile_size - 1) / *tile_size);
 }
 
+/* Perimeter cells of a strip of whole rows lie in its first or last row, in the
+ * first or last column (cube seams), or in a face's first or last row: a strip of
+ * r rows meets at most r/h + 2 faces. */
+static uint32_t perimeter_bound(const pg_pits_topo *t, uint64_t tile_size) {
+    uint64_t rows = tile_size / t->w;
+    uint64_t b = (uint64_t)t->w * (2 * (rows / t->h) + 6) + 2 * rows;
+    return (uint32_t)(b < tile_size ? b : tile_size);
+}
+
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err) {
     uint8_t *st = NULL;
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, NULL, &nsinks, err);
     if (s) return s;
-    tiling g = {t, h, st, calloc(t->ncells, sizeof(uint32_t)), 0, 0};
+    tiling g = {t, h, st, calloc(t->ncells, sizeof(uint32_t)), 0, 0, 0};
     g.ntiles = choose_tiles(t, o, &g.tile_size);
-    edge_vec *ev = calloc(g.ntiles, sizeof *ev);
-    float *level = malloc((t->ncells + 2) * sizeof *level);
+    g.bound = perimeter_bound(t, g.tile_size);
+    /* ev[0..ntiles) in-tile spill edges, ev[ntiles..2*ntiles) cross-tile pairs */
+    edge_vec *ev = calloc(2 * (size_t)g.ntiles, sizeof *ev);
+    float *level = malloc((2 + (size_t)g.ntiles * g.bound) * sizeof *level);
     int oom = !g.label || !ev || !level;
     if (!oom) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(| : oom)
         for (int64_t tile = 0; tile < (int64_t)g.ntiles; tile++)
-            oom |= flood_tile(&g, (uint32_t)tile, &ev[tile]);
+            oom |= flood_tile(&g, (uint32_t)tile, &ev[tile], &ev[g.ntiles + tile]);
     }
-    if (!oom) oom = solve_levels(&g, ev, g.ntiles, level);
+    for (uint32_t i = 0; !oom && i < g.ntiles; i++)
+        label_cross_edges(&g, &ev[g.ntiles + i]);
+    if (!oom) oom = solve_levels(&g, ev, 2 * g.ntiles, level);
     if (!oom) {
         const int64_t n = (int64_t)t->ncells;
 #pragma omp parallel for schedule(static)
         for (int64_t i = 0; i < n; i++)
             if (st[i] == PITS_OPEN && level[g.label[i]] > h[i]) h[i] = level[g.label[i]];
     }
-    for (uint32_t i = 0; ev && i < g.ntiles; i++)
+    for (uint32_t i = 0; ev && i < 2 * g.ntiles; i++)
         free(ev[i].e);
     free(ev);
     free(level);
