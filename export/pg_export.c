@@ -1,0 +1,314 @@
+/* pg_export.c - export a planet: options, their checks, and the writing of the
+ * glTF globe, the EXR heights and the previews; see pg_export.h.
+ *
+ * The .glb is assembled face by face so that only one face's full-resolution
+ * images exist as floats at a time: the albedo, the normal map and the 16-bit
+ * height are encoded (PNG/JPEG bytes in memory) and the floats freed before the
+ * next face. The encoded bytes then go to the tinygltf adapter (pg_gltf.cpp), or to
+ * separate files with --external-textures. */
+#include "pg_export_encode.h"
+#include "pg_export_internal.h"
+#include "pg_gltf.h"
+
+#include "planetgen/pg_exr.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+void pg_export_opts_default(pg_export_opts *o) {
+    memset(o, 0, sizeof *o);
+    o->exaggeration = PG_EXPORT_DEFAULT_EXAGGERATION;
+    o->texture_format = PG_EXPORT_TEXTURE_PNG;
+    o->jpeg_quality = 90;
+    o->glb = o->exr = o->previews = true;
+    o->globe_size = 512;
+}
+
+int pg_export_default_mesh_res(int tiles, int tile_size) {
+    int best = tiles;
+    for (int m = 1; m <= tile_size; m *= 2) {
+        double tri = 12.0 * (double)tiles * m * (double)tiles * m;
+        if (tile_size % m == 0 && tri <= 1.5 * PG_EXPORT_TARGET_TRIANGLES) best = tiles * m;
+    }
+    return best;
+}
+
+pg_status pg_export_texture_format_parse(const char *name, const char *option,
+                                         pg_export_texture_format *out, pg_error *err) {
+    if (!strcmp(name, "png")) {
+        *out = PG_EXPORT_TEXTURE_PNG;
+    } else if (!strcmp(name, "jpeg") || !strcmp(name, "jpg")) {
+        *out = PG_EXPORT_TEXTURE_JPEG;
+    } else {
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s '%s': unknown texture format (png, jpeg)",
+                            option, name);
+    }
+    return PG_OK;
+}
+
+pg_status pg_export_check_opts(const pg_export_opts *o, int tiles, int tile_size, pg_error *err) {
+    int64_t n = (int64_t)tiles * tile_size;
+    int m = o->mesh_res ? o->mesh_res : pg_export_default_mesh_res(tiles, tile_size);
+    if (m < 1 || m % tiles != 0 || n % m != 0)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--mesh-res %d: must be a multiple of the planet's %d tiles per face "
+                            "edge that divides its %lld texels per face edge (e.g. %d)",
+                            m, tiles, (long long)n, pg_export_default_mesh_res(tiles, tile_size));
+    if (12 * (int64_t)m * m > PG_EXPORT_MAX_TRIANGLES)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--mesh-res %d: %lld triangles exceed the limit of %lld", m,
+                            (long long)(12 * (int64_t)m * m), (long long)PG_EXPORT_MAX_TRIANGLES);
+    if (!(o->exaggeration >= 0 && o->exaggeration <= PG_EXPORT_MAX_EXAGGERATION))
+        return pg_error_set(err, PG_ERR_BADINPUT, "--exaggeration %g: must be in [0, %g]",
+                            o->exaggeration, PG_EXPORT_MAX_EXAGGERATION);
+    if (o->texture_format == PG_EXPORT_TEXTURE_JPEG &&
+        (o->jpeg_quality < 1 || o->jpeg_quality > 100))
+        return pg_error_set(err, PG_ERR_BADINPUT, "JPEG quality %d: must be in 1..100",
+                            o->jpeg_quality);
+    if (o->preview_width < 0 || o->preview_width > 65536 || o->preview_width % 2)
+        return pg_error_set(err, PG_ERR_BADINPUT, "preview width %d: must be even, <= 65536",
+                            o->preview_width);
+    if (o->globe_size < 0 || o->globe_size > 16384)
+        return pg_error_set(err, PG_ERR_BADINPUT, "globe size %d: must be <= 16384", o->globe_size);
+    return PG_OK;
+}
+
+static void height_range(const pg_planet *p, double *lo, double *hi) {
+    double mn = INFINITY, mx = -INFINITY;
+    size_t nn = (size_t)p->n * p->n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (size_t i = 0; i < nn; i++) {
+            double h = p->height[f][i];
+            mn = h < mn ? h : mn;
+            mx = h > mx ? h : mx;
+        }
+    *lo = mn, *hi = mx;
+}
+
+pg_status pg_export_check_planet(const pg_export_opts *o, const pg_planet *p, pg_error *err) {
+    pg_status st = pg_export_check_opts(o, p->tiles, p->tile_size, err);
+    if (st != PG_OK) return st;
+    double lo, hi;
+    height_range(p, &lo, &hi);
+    if (!isfinite(lo) || !isfinite(hi))
+        return pg_error_set(err, PG_ERR_BADINPUT, "planet heights are not finite");
+    double top = fmax(fabs(hi > p->sea_level ? hi : p->sea_level), fabs(lo));
+    if (top * o->exaggeration >= 0.25 * p->ellipsoid.a)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--exaggeration %g: relief of %.0f m would reach %.0f km, over a "
+                            "quarter of the %.0f km radius",
+                            o->exaggeration, top, top * o->exaggeration / 1000,
+                            p->ellipsoid.a / 1000);
+    return PG_OK;
+}
+
+/* ---- the glTF globe ---- */
+
+typedef struct glb_images {
+    pg_gltf_image img[3 * PG_CUBE_NFACES]; /* per face: albedo, normal, height */
+    uint8_t *bytes[3 * PG_CUBE_NFACES];
+    char names[3 * PG_CUBE_NFACES][64];
+    char uris[3 * PG_CUBE_NFACES][64];
+} glb_images;
+
+static const char *const face_tag[PG_CUBE_NFACES] = {"px", "nx", "py", "ny", "pz", "nz"};
+
+static pg_status write_bytes(const char *path, const uint8_t *b, size_t n, pg_error *err) {
+    FILE *f = fopen(path, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write", path);
+    size_t w = fwrite(b, 1, n, f);
+    if (fclose(f) != 0 || w != n)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    return PG_OK;
+}
+
+/* Encode one image of a face into slot k and name it. */
+static pg_status encode_slot(glb_images *gi, int k, const char *kind, const float *data, int64_t n,
+                             int ch, int bits, pg_export_codec codec, int quality, pg_error *err) {
+    int face = k / 3;
+    const char *ext = codec == PG_EXPORT_CODEC_JPEG ? "jpg" : "png";
+    snprintf(gi->names[k], sizeof gi->names[k], "%s_%s", kind, pg_cube_face_name(face));
+    snprintf(gi->uris[k], sizeof gi->uris[k], "planet_%s_%s.%s", kind, face_tag[face], ext);
+    pg_gltf_image *im = &gi->img[k];
+    im->name = gi->names[k];
+    im->mime = codec == PG_EXPORT_CODEC_JPEG ? "image/jpeg" : "image/png";
+    return pg_export_encode(data, (int)n, (int)n, ch, bits, true, codec, quality, gi->uris[k],
+                            &gi->bytes[k], &im->size, err);
+}
+
+static pg_status encode_face(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
+                             const pg_export_opts *o, double lo, double scale, int f,
+                             glb_images *gi, pg_error *err) {
+    size_t nn = (size_t)p->n * p->n;
+    pg_export_codec albedo_codec =
+        o->texture_format == PG_EXPORT_TEXTURE_JPEG ? PG_EXPORT_CODEC_JPEG : PG_EXPORT_CODEC_PNG;
+    pg_status st = encode_slot(gi, 3 * f, "albedo", p->albedo[f], p->n, 3, 8, albedo_codec,
+                               o->jpeg_quality, err);
+    float *buf = st == PG_OK ? malloc(nn * 3 * sizeof(float)) : NULL;
+    if (st == PG_OK && !buf) st = pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
+    if (st == PG_OK) st = pg_export_normal_map(p, g, mesh, o->exaggeration, f, buf, err);
+    if (st == PG_OK)
+        st = encode_slot(gi, 3 * f + 1, "normal", buf, p->n, 3, 8, PG_EXPORT_CODEC_PNG, 0, err);
+    if (st == PG_OK) {
+        for (size_t i = 0; i < nn; i++)
+            buf[i] = (float)((p->height[f][i] - lo) / scale);
+        st = encode_slot(gi, 3 * f + 2, "height", buf, p->n, 1, 16, PG_EXPORT_CODEC_PNG, 0, err);
+    }
+    free(buf);
+    return st;
+}
+
+static void set_extra_num(pg_gltf_extra *e, const char *key, double v, int is_int) {
+    e->key = key, e->string = NULL, e->number = v, e->is_int = is_int;
+}
+
+static void set_extra_str(pg_gltf_extra *e, const char *key, const char *s) {
+    e->key = key, e->string = s, e->number = 0, e->is_int = 0;
+}
+
+static void describe_primitives(const pg_export_mesh *mesh, double lo, double scale,
+                                pg_gltf_primitive prims[PG_CUBE_NFACES],
+                                char names[PG_CUBE_NFACES][32]) {
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        pg_gltf_primitive *q = &prims[f];
+        memset(q, 0, sizeof *q);
+        snprintf(names[f], 32, "face %s", pg_cube_face_name(f));
+        q->material_name = names[f];
+        q->nverts = mesh->nv;
+        q->positions = mesh->pos[f];
+        q->normals = mesh->nrm[f];
+        q->tangents = mesh->tan[f];
+        q->texcoords = mesh->uv;
+        q->nindices = mesh->ni;
+        q->indices = mesh->idx;
+        q->base_color_image = 3 * f;
+        q->normal_image = 3 * f + 1;
+        q->nextras = 4;
+        set_extra_num(&q->extras[0], "heightTexture", 3 * f + 2, 1);
+        set_extra_num(&q->extras[1], "heightScale", scale, 0);
+        set_extra_num(&q->extras[2], "heightOffset", lo, 0);
+        set_extra_str(&q->extras[3], "face", pg_cube_face_name(f));
+    }
+}
+
+/* Scene extras: the planet parameters, for tools that read the .glb alone. */
+static int scene_extras(const pg_planet *p, const pg_export_opts *o, int m, char *seed,
+                        pg_gltf_extra *e) {
+    snprintf(seed, 32, "%llu", (unsigned long long)p->seed);
+    set_extra_num(&e[0], "radius_m", p->ellipsoid.a, 0);
+    set_extra_num(&e[1], "flattening", p->ellipsoid.f, 0);
+    set_extra_str(&e[2], "projection", pg_cube_projection_name(p->projection));
+    set_extra_num(&e[3], "tiles", p->tiles, 1);
+    set_extra_num(&e[4], "tile_size", p->tile_size, 1);
+    set_extra_str(&e[5], "seed", seed);
+    set_extra_str(&e[6], "exemplar", p->exemplar);
+    set_extra_num(&e[7], "sea_level_m", p->sea_level, 0);
+    set_extra_num(&e[8], "exaggeration", o->exaggeration, 0);
+    set_extra_num(&e[9], "mesh_res", m, 1);
+    return 10;
+}
+
+static pg_status write_glb(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
+                           const pg_export_opts *o, double lo, double hi,
+                           pg_planet_path_fn path_for, void *user, pg_export_result *res,
+                           pg_error *err) {
+    double scale = hi > lo ? hi - lo : 1.0;
+    glb_images *gi = calloc(1, sizeof *gi);
+    if (!gi) return pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    pg_status st = PG_OK;
+    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++)
+        st = encode_face(p, g, mesh, o, lo, scale, f, gi, err);
+    for (int k = 0; st == PG_OK && k < 3 * PG_CUBE_NFACES; k++) {
+        gi->img[k].bytes = gi->bytes[k];
+        if (!o->external_textures) continue;
+        gi->img[k].uri = gi->uris[k];
+        const char *path = path_for(gi->uris[k], user);
+        st = path ? write_bytes(path, gi->bytes[k], gi->img[k].size, err)
+                  : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+        res->nfiles++;
+    }
+    pg_gltf_primitive prims[PG_CUBE_NFACES];
+    char names[PG_CUBE_NFACES][32], seed[32];
+    pg_gltf_extra extras[10];
+    describe_primitives(mesh, lo, scale, prims, names);
+    /* ECEF has +Z north; glTF has +Y up: rotate -90 degrees about X */
+    const double rot[4] = {-sqrt(0.5), 0, 0, sqrt(0.5)};
+    char generator[64];
+    snprintf(generator, sizeof generator, "planetgen %s", pg_version());
+    pg_gltf_desc d = {
+        generator, "planet",           rot,     PG_CUBE_NFACES,
+        prims,     3 * PG_CUBE_NFACES, gi->img, scene_extras(p, o, mesh->m, seed, extras),
+        extras};
+    const char *path = st == PG_OK ? path_for(PG_EXPORT_GLB_NAME, user) : NULL;
+    if (st == PG_OK && !path) st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    if (st == PG_OK) st = pg_gltf_write_glb(path, &d, err);
+    if (st == PG_OK) {
+        struct stat sb;
+        res->glb_bytes = stat(path, &sb) == 0 ? (double)sb.st_size : 0;
+        res->nfiles++;
+    }
+    for (int k = 0; k < 3 * PG_CUBE_NFACES; k++)
+        free(gi->bytes[k]);
+    free(gi);
+    return st;
+}
+
+static pg_status export_glb(const pg_planet *p, const pg_export_opts *o, int m, double lo,
+                            double hi, pg_planet_path_fn path_for, void *user,
+                            pg_export_result *res, pg_error *err) {
+    pg_cube_grid g;
+    pg_status st = pg_cube_grid_init(&g, p->projection, p->tiles, p->tile_size, err);
+    pg_export_mesh mesh;
+    if (st == PG_OK) st = pg_export_mesh_build(p, &g, m, o->exaggeration, &mesh, err);
+    if (st != PG_OK) return st;
+    res->vertices = 6 * (int64_t)mesh.nv;
+    res->triangles = 2 * (int64_t)mesh.ni;
+    st = write_glb(p, &g, &mesh, o, lo, hi, path_for, user, res, err);
+    pg_export_mesh_free(&mesh);
+    return st;
+}
+
+static pg_status export_exr(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                            pg_export_result *res, pg_error *err) {
+    pg_image parts[PG_CUBE_NFACES];
+    const char *names[PG_CUBE_NFACES];
+    memset(parts, 0, sizeof parts);
+    pg_status st = PG_OK;
+    size_t row = (size_t)p->n;
+    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++) {
+        names[f] = pg_cube_face_name(f);
+        st = pg_image_alloc(&parts[f], (int)p->n, (int)p->n, 1, err);
+        for (int64_t y = 0; st == PG_OK && y < p->n; y++) /* image rows top-down */
+            memcpy(parts[f].data + (size_t)(p->n - 1 - y) * row, p->height[f] + (size_t)y * row,
+                   row * sizeof(float));
+    }
+    const char *path = st == PG_OK ? path_for(PG_PLANET_HEIGHT_NAME, user) : NULL;
+    if (st == PG_OK && !path) st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    if (st == PG_OK) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, NULL, err);
+    if (st == PG_OK) res->nfiles++;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        pg_image_free(&parts[f]);
+    return st;
+}
+
+pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet_path_fn path_for,
+                          void *user, pg_export_result *res, pg_error *err) {
+    pg_export_result local;
+    if (!res) res = &local;
+    memset(res, 0, sizeof *res);
+    pg_status st = pg_export_check_planet(o, p, err);
+    if (st != PG_OK) return st;
+    int m = o->mesh_res ? o->mesh_res : pg_export_default_mesh_res(p->tiles, p->tile_size);
+    res->mesh_res = m;
+    res->exaggeration = o->exaggeration;
+    height_range(p, &res->height_min, &res->height_max);
+    if (o->glb)
+        st = export_glb(p, o, m, res->height_min, res->height_max, path_for, user, res, err);
+    if (st == PG_OK && o->exr) st = export_exr(p, path_for, user, res, err);
+    if (st == PG_OK && o->previews)
+        st = pg_export_previews(p, o, path_for, user, &res->nfiles, err);
+    return st;
+}

@@ -1,0 +1,217 @@
+/* pg_export_previews.c - preview images of a planet: equirectangular albedo and
+ * shaded relief, and orthographic globe renders from four sides.
+ *
+ * Both work on a reduced copy of the planet (faces box-filtered by the smallest
+ * integer factor that brings them to <= 1024 texels), held as one contiguous cube
+ * buffer of (R, G, B, height) so pg_cube_to_equirect and pg_cube_sample can read it.
+ *
+ * The globe renders are a small CPU ray caster: an orthographic camera, a ray per
+ * sub-pixel (2 x 2 per pixel), intersected with the ellipsoid (scaled to a sphere);
+ * the hit point's direction samples the cube. Coverage uses all 2 x 2 rays, shading
+ * one per pixel (five cube samples), which keeps four 512^2 renders at seconds. Shading is Lambert
+ * under a light from the upper left, with the normal tilted by the exaggerated height gradient,
+ * which is taken by finite differences one texel apart along two tangents. The relief is shaded,
+ * not displaced: at globe scale its silhouette is invisible anyway. */
+#include "pg_export_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PREVIEW_MAX_FACE 1024
+
+typedef struct reduced {
+    int64_t n;   /* texels per face edge */
+    float *cube; /* 6*n*n*4: R, G, B, height (metres) */
+} reduced;
+
+static pg_status reduce(const pg_planet *p, reduced *r, pg_error *err) {
+    int64_t k = 1;
+    while (p->n / k > PREVIEW_MAX_FACE || p->n % k)
+        k++;
+    r->n = p->n / k;
+    size_t nn = (size_t)r->n * r->n;
+    r->cube = calloc(6 * nn * 4, sizeof(float));
+    if (!r->cube) return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the preview planet");
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+#pragma omp parallel for schedule(static)
+        for (int64_t y = 0; y < r->n; y++)
+            for (int64_t x = 0; x < r->n; x++) {
+                double s[4] = {0, 0, 0, 0};
+                for (int64_t b = 0; b < k; b++)
+                    for (int64_t a = 0; a < k; a++) {
+                        int64_t t = (y * k + b) * p->n + x * k + a;
+                        for (int c = 0; c < 3; c++)
+                            s[c] += p->albedo[f][3 * t + c];
+                        s[3] += p->height[f][t];
+                    }
+                float *o = r->cube + 4 * ((size_t)f * nn + (size_t)y * r->n + x);
+                for (int c = 0; c < 4; c++)
+                    o[c] = (float)(s[c] / (double)(k * k));
+            }
+    }
+    return PG_OK;
+}
+
+static pg_status write_png(const char *name, const pg_image *img, pg_planet_path_fn path_for,
+                           void *user, int *nfiles, pg_error *err) {
+    const char *path = path_for(name, user);
+    if (!path) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", name);
+    (*nfiles)++;
+    return pg_image_write_png(path, img, 8, err);
+}
+
+static pg_status equirect_previews(const pg_planet *p, const reduced *r, int width,
+                                   pg_planet_path_fn path_for, void *user, int *nfiles,
+                                   pg_error *err) {
+    int w = width > 0 ? width : (int)(4 * r->n < 2048 ? 4 * r->n : 2048), h = w / 2;
+    float *img4 = malloc((size_t)w * h * 4 * sizeof(float));
+    pg_image rgb = {0}, rel = {0};
+    pg_status st = img4 ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate previews");
+    if (st == PG_OK)
+        st = pg_cube_to_equirect(p->projection, r->n, &p->ellipsoid, r->cube, 4, img4, w, h, err);
+    if (st == PG_OK) st = pg_image_alloc(&rgb, w, h, 3, err);
+    if (st == PG_OK) st = pg_image_alloc(&rel, w, h, 3, err);
+    if (st == PG_OK) {
+        float *elev = img4; /* compact the heights in place, after copying the colours */
+        for (size_t i = 0; i < (size_t)w * h; i++) {
+            memcpy(rgb.data + 3 * i, img4 + 4 * i, 3 * sizeof(float));
+            elev[i] = img4[4 * i + 3];
+        }
+        pg_relief_shade(elev, w, h, p->sea_level, rel.data);
+        st = write_png(PG_EXPORT_ALBEDO_PREVIEW, &rgb, path_for, user, nfiles, err);
+    }
+    if (st == PG_OK) st = write_png(PG_EXPORT_RELIEF_PREVIEW, &rel, path_for, user, nfiles, err);
+    free(img4);
+    pg_image_free(&rgb);
+    pg_image_free(&rel);
+    return st;
+}
+
+typedef struct globe_view {
+    const char *name;
+    double view[3], up[3]; /* from the centre towards the camera; image up */
+} globe_view;
+
+typedef struct globe_ctx {
+    const pg_planet *p;
+    const reduced *r;
+    double exaggeration, a, b, ext;
+    double view[3], up[3], right[3], light[3];
+} globe_ctx;
+
+static float sample_height(const globe_ctx *c, const double dir[3]) {
+    float v[4];
+    pg_cube_sample(c->p->projection, c->r->n, c->r->cube, 4, dir, v);
+    return v[3] > c->p->sea_level ? v[3] : c->p->sea_level;
+}
+
+/* The hit point of the ray through image-plane point (x, y); false on a miss. */
+static bool hit_point(const globe_ctx *c, double x, double y, double pnt[3]) {
+    double o[3], s = c->a / c->b; /* scale z so the ellipsoid becomes a sphere */
+    for (int k = 0; k < 3; k++)
+        o[k] = x * c->right[k] + y * c->up[k] + 3 * c->a * c->view[k];
+    double os[3] = {o[0], o[1], o[2] * s}, ds[3] = {-c->view[0], -c->view[1], -c->view[2] * s};
+    double A = pg_export_dot3(ds, ds), B = 2 * pg_export_dot3(os, ds),
+           C = pg_export_dot3(os, os) - c->a * c->a;
+    double disc = B * B - 4 * A * C;
+    if (disc < 0) return false;
+    double t = (-B - sqrt(disc)) / (2 * A);
+    for (int k = 0; k < 3; k++)
+        pnt[k] = o[k] - t * c->view[k];
+    return true;
+}
+
+/* Shaded colour at a surface point: albedo times Lambert, with the ellipsoid normal
+ * tilted by the exaggerated height gradient along two tangents. */
+static void shade_point(const globe_ctx *c, const double pnt[3], float out[3]) {
+    double ne[3] = {pnt[0] / (c->a * c->a), pnt[1] / (c->a * c->a), pnt[2] / (c->b * c->b)};
+    pg_export_normalize3(ne);
+    float col[4];
+    pg_cube_sample(c->p->projection, c->r->n, c->r->cube, 4, pnt, col);
+    double axis[3] = {0, 0, 1}, t1[3], t2[3];
+    if (fabs(ne[2]) > 0.9) axis[0] = 1, axis[2] = 0;
+    pg_export_cross3(axis, ne, t1);
+    pg_export_normalize3(t1);
+    pg_export_cross3(ne, t1, t2);
+    double eps = 1.5 / (double)c->r->n, n[3] = {ne[0], ne[1], ne[2]};
+    const double *tg[2] = {t1, t2};
+    for (int a = 0; a < 2; a++) {
+        double dp[3], dm[3];
+        for (int k = 0; k < 3; k++) {
+            dp[k] = pnt[k] / c->a + eps * tg[a][k];
+            dm[k] = pnt[k] / c->a - eps * tg[a][k];
+        }
+        double grad = (sample_height(c, dp) - sample_height(c, dm)) / (2 * eps * c->a);
+        for (int k = 0; k < 3; k++)
+            n[k] -= c->exaggeration * grad * tg[a][k];
+    }
+    pg_export_normalize3(n);
+    double lam = pg_export_dot3(n, c->light);
+    double shade = 0.15 + 0.85 * (lam > 0 ? lam : 0);
+    for (int k = 0; k < 3; k++)
+        out[k] = (float)(col[k] * shade);
+}
+
+static void render_globe(globe_ctx *c, const globe_view *v, int size, float *rgb) {
+    memcpy(c->view, v->view, sizeof c->view);
+    memcpy(c->up, v->up, sizeof c->up);
+    double fwd[3] = {-v->view[0], -v->view[1], -v->view[2]};
+    pg_export_cross3(fwd, c->up, c->right);
+    for (int k = 0; k < 3; k++)
+        c->light[k] = 0.55 * c->view[k] + 0.6 * c->up[k] - 0.6 * c->right[k];
+    pg_export_normalize3(c->light);
+#pragma omp parallel for schedule(dynamic, 8)
+    for (int py = 0; py < size; py++)
+        for (int px = 0; px < size; px++) {
+            /* coverage from 2 x 2 rays (smooth limb), shading once per pixel */
+            double pnt[3], first[3];
+            int hits = 0;
+            for (int k = 0; k < 4; k++) {
+                double x = (2 * (px + 0.25 + 0.5 * (k & 1)) / size - 1) * c->ext;
+                double y = (1 - 2 * (py + 0.25 + 0.5 * (k >> 1)) / size) * c->ext;
+                if (hit_point(c, x, y, pnt) && hits++ == 0) memcpy(first, pnt, sizeof pnt);
+            }
+            float col[3] = {0, 0, 0};
+            double cx = (2 * (px + 0.5) / size - 1) * c->ext,
+                   cy = (1 - 2 * (py + 0.5) / size) * c->ext;
+            if (hits) shade_point(c, hit_point(c, cx, cy, pnt) ? pnt : first, col);
+            for (int k = 0; k < 3; k++)
+                rgb[3 * ((size_t)py * size + px) + k] = col[k] * hits / 4;
+        }
+}
+
+static pg_status globe_renders(const pg_planet *p, const reduced *r, const pg_export_opts *o,
+                               pg_planet_path_fn path_for, void *user, int *nfiles, pg_error *err) {
+    /* north: Greenwich at the bottom; south: at the top; equator: north up */
+    static const globe_view views[4] = {{"globe_north.png", {0, 0, 1}, {-1, 0, 0}},
+                                        {"globe_south.png", {0, 0, -1}, {1, 0, 0}},
+                                        {"globe_lon000.png", {1, 0, 0}, {0, 0, 1}},
+                                        {"globe_lon180.png", {-1, 0, 0}, {0, 0, 1}}};
+    int size = o->globe_size > 0 ? o->globe_size : 512;
+    pg_image img;
+    pg_status st = pg_image_alloc(&img, size, size, 3, err);
+    globe_ctx c = {.p = p,
+                   .r = r,
+                   .exaggeration = o->exaggeration,
+                   .a = p->ellipsoid.a,
+                   .b = p->ellipsoid.a * (1 - p->ellipsoid.f)};
+    c.ext = 1.04 * c.a;
+    for (int v = 0; st == PG_OK && v < 4; v++) {
+        render_globe(&c, &views[v], size, img.data);
+        st = write_png(views[v].name, &img, path_for, user, nfiles, err);
+    }
+    pg_image_free(&img);
+    return st;
+}
+
+pg_status pg_export_previews(const pg_planet *p, const pg_export_opts *o,
+                             pg_planet_path_fn path_for, void *user, int *nfiles, pg_error *err) {
+    reduced r;
+    pg_status st = reduce(p, &r, err);
+    if (st != PG_OK) return st;
+    st = equirect_previews(p, &r, o->preview_width, path_for, user, nfiles, err);
+    if (st == PG_OK) st = globe_renders(p, &r, o, path_for, user, nfiles, err);
+    free(r.cube);
+    return st;
+}

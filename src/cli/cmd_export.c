@@ -1,0 +1,144 @@
+/* cmd_export.c - `planetgen export DIR`: re-export an existing planet directory as a
+ * glTF globe (planet.glb), float heights (height.exr) and previews, with other mesh
+ * or texture options than `generate` used.
+ *
+ * Everything the user can get wrong is checked before the planet is loaded: the
+ * options against the planet's grid from planet.json (a mesh resolution must fit
+ * its tiles and texels), then the exaggeration against the loaded heights. All
+ * files are staged under temporary names and renamed at the end, so an export into
+ * a directory that already holds one replaces each file atomically, and a failed
+ * export leaves the old files untouched. */
+#include "pg_commands.h"
+
+#include "pg_planet_meta.h"
+#include "planetgen/pg_export.h"
+#include "planetgen/pg_json.h"
+
+#include <stdio.h>
+#include <string.h>
+
+typedef struct export_args {
+    const char *outdir, *texture_format;
+    long mesh_res, jpeg_quality, globe_size;
+    double exaggeration;
+    bool external, no_previews;
+} export_args;
+
+typedef struct stage_ctx {
+    pg_cli *cli;
+    const char *dir;
+} stage_ctx;
+
+static const char *staged_path(const char *name, void *user) {
+    stage_ctx *c = user;
+    return pg_cli_output_path(c->cli, c->dir, name);
+}
+
+static void report_json(pg_cli *cli, const char *dir, const export_args *a,
+                        const pg_export_result *r) {
+    pg_json *j = pg_cli_report(cli);
+    if (!j) return;
+    pg_json_set_string(pg_json_set_object(j, "inputs"), "planet", dir);
+    pg_json *p = pg_json_set_object(j, "parameters");
+    pg_json_set_string(p, "outdir", a->outdir);
+    pg_json_set_number(p, "mesh_res", r->mesh_res);
+    pg_json_set_number(p, "exaggeration", r->exaggeration);
+    pg_json_set_string(p, "texture_format", a->texture_format);
+    pg_json_set_bool(p, "external_textures", a->external);
+    pg_json *res = pg_json_set_object(j, "results");
+    pg_json_set_number(res, "vertices", (double)r->vertices);
+    pg_json_set_number(res, "triangles", (double)r->triangles);
+    pg_json_set_number(res, "glb_bytes", r->glb_bytes);
+    pg_json_set_number(res, "height_min_m", r->height_min);
+    pg_json_set_number(res, "height_max_m", r->height_max);
+    pg_json_set_number(res, "files", r->nfiles);
+}
+
+/* Options against planet.json's grid, before the planet is loaded. */
+static pg_status check_against_meta(const char *dir, const pg_export_opts *o, pg_error *err) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_META_NAME);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a planet output (no %s)", dir,
+                            PG_PLANET_META_NAME);
+    fclose(f);
+    pg_planet_meta meta;
+    pg_status st = pg_planet_meta_read(path, &meta, err);
+    return st == PG_OK ? pg_export_check_opts(o, meta.tiles, meta.tile_size, err) : st;
+}
+
+static int run_export(pg_cli *cli, const char *dir, const export_args *a, pg_export_opts *o) {
+    pg_error err = {0};
+    pg_status st = pg_export_texture_format_parse(a->texture_format, "--texture-format",
+                                                  &o->texture_format, &err);
+    if (st == PG_OK) st = check_against_meta(dir, o, &err);
+    if (st != PG_OK) return pg_cli_fail(cli, &err);
+    pg_planet p;
+    pg_cli_stage_begin(cli, "load planet");
+    if (pg_planet_load(dir, &p, &err) != PG_OK) return pg_cli_fail(cli, &err);
+    pg_cli_stage_end(cli);
+    st = pg_export_check_planet(o, &p, &err);
+    if (st == PG_OK) st = pg_cli_prepare_outdir(cli, a->outdir, &err);
+    pg_export_result r;
+    stage_ctx ctx = {cli, a->outdir};
+    pg_cli_stage_begin(cli, "export");
+    if (st == PG_OK) st = pg_export_write(&p, o, staged_path, &ctx, &r, &err);
+    pg_planet_free(&p);
+    if (st != PG_OK) return pg_cli_fail(cli, &err);
+    pg_cli_stage_end(cli);
+    pg_cli_info(cli, "globe    %s/%s: %d quads per face edge, %lld triangles, %.1f MB\n", a->outdir,
+                PG_EXPORT_GLB_NAME, r.mesh_res, (long long)r.triangles, r.glb_bytes / 1e6);
+    pg_cli_info(cli, "relief   %.0f .. %.0f m, exaggerated %gx on the mesh\n", r.height_min,
+                r.height_max, r.exaggeration);
+    report_json(cli, dir, a, &r);
+    return pg_cli_finish(cli);
+}
+
+int pg_cmd_export(pg_cli *cli, int argc, char **argv) {
+    export_args a = {NULL, "png", 0, 90, 512, PG_EXPORT_DEFAULT_EXAGGERATION, false, false};
+    const pg_opt opts[] = {
+        {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "OUT",
+         "output directory (default: the planet directory itself)"},
+        {"--mesh-res", NULL, PG_OPT_INT, &a.mesh_res, 1, 65536, NULL, "M",
+         "quads per face edge: a multiple of the tiles per face edge dividing the face's "
+         "texels (default: about 200k triangles)"},
+        {"--exaggeration", NULL, PG_OPT_DOUBLE, &a.exaggeration, 0, PG_EXPORT_MAX_EXAGGERATION,
+         NULL, "X", "relief exaggeration of the mesh and normal maps (default 10)"},
+        {"--texture-format", NULL, PG_OPT_STRING, &a.texture_format, 0, 0, NULL, "png|jpeg",
+         "albedo texture format (default png)"},
+        {"--jpeg-quality", NULL, PG_OPT_INT, &a.jpeg_quality, 1, 100, NULL, "Q",
+         "JPEG quality (default 90)"},
+        {"--external-textures", NULL, PG_OPT_FLAG, &a.external, 0, 0, NULL, NULL,
+         "write textures as separate files next to the .glb instead of embedding them"},
+        {"--globe-size", NULL, PG_OPT_INT, &a.globe_size, 16, 16384, NULL, "PX",
+         "size of the orthographic globe renders (default 512)"},
+        {"--no-previews", NULL, PG_OPT_FLAG, &a.no_previews, 0, 0, NULL, NULL,
+         "skip albedo.png, relief.png and the globe renders"},
+        PG_OPT_END};
+    const char *pos[1];
+    int npos;
+    bool done;
+    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 1, &npos, &done);
+    if (rc) return rc;
+    if (done) {
+        pg_cli_print_help(cli, "DIR [-o OUT] [--mesh-res M] [--exaggeration X] [OPTIONS]",
+                          "Export the planet in DIR (written by generate) as a glTF 2.0 globe\n"
+                          "(planet.glb), float heights (height.exr) and previews (albedo.png,\n"
+                          "relief.png, globe_*.png) into OUT. Existing files are replaced "
+                          "atomically.",
+                          opts, stdout);
+        return 0;
+    }
+    if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (see --help)");
+    if (!a.outdir) a.outdir = pos[0];
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.mesh_res = (int)a.mesh_res;
+    o.exaggeration = a.exaggeration;
+    o.jpeg_quality = (int)a.jpeg_quality;
+    o.external_textures = a.external;
+    o.globe_size = (int)a.globe_size;
+    o.previews = !a.no_previews;
+    return run_export(cli, pos[0], &a, &o);
+}

@@ -1,0 +1,92 @@
+/* export_fixture.h - planet directories for the export tests, made from the real
+ * Earth exemplar (pg_planet_from_exemplar + pg_planet_save), and small helpers to
+ * run external tools and read their figures. Header-only: each export test is its
+ * own executable. */
+#ifndef EXPORT_FIXTURE_H
+#define EXPORT_FIXTURE_H
+
+#include "pg_test.h"
+
+#include "planetgen/pg_planet.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+typedef struct fixture_stage {
+    char dir[1024];
+    char buf[1200];
+} fixture_stage;
+
+static inline const char *fixture_path(const char *name, void *user) {
+    fixture_stage *c = user;
+    snprintf(c->buf, sizeof c->buf, "%s/%s", c->dir, name);
+    return c->buf;
+}
+
+/* The Earth reprojected onto a planet of 6 x tiles^2 x tile_size^2, saved as a
+ * planet directory in the scratch dir `tag`; the path goes to dir. */
+static inline void fixture_planet_dir(const char *tag, int tiles, int tile_size, char *dir,
+                                      size_t size) {
+    pg_error err = {0};
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    o.grid_width = 2700; /* the Blue Marble's width: enough for faces up to 1024 */
+    pg_exemplar ex;
+    assert_int_equal(pg_exemplar_load(&o, &ex, &err), PG_OK);
+    pg_planet p;
+    assert_int_equal(
+        pg_planet_alloc(&p, PG_CUBE_EQUIANGULAR, tiles, tile_size, pg_ellipsoid_wgs84(), &err),
+        PG_OK);
+    p.seed = 42;
+    assert_int_equal(pg_planet_from_exemplar(&p, &ex, 2, &err), PG_OK);
+    fixture_stage st;
+    pg_test_scratch_dir(tag, st.dir, sizeof st.dir);
+    assert_int_equal(pg_planet_save(&p, fixture_path, &st, &err), PG_OK);
+    snprintf(dir, size, "%s", st.dir);
+    pg_planet_free(&p);
+    pg_exemplar_free(&ex);
+}
+
+/* Run a shell command, capturing its stdout into out; returns the exit status. */
+static inline int fixture_sh(const char *cmd, char *out, size_t size) {
+    FILE *f = popen(cmd, "r");
+    if (!f) return -1;
+    size_t n = 0;
+    if (out && size) {
+        n = fread(out, 1, size - 1, f);
+        out[n] = '\0';
+    } else {
+        char tmp[4096];
+        while (fread(tmp, 1, sizeof tmp, f) > 0) {
+        }
+    }
+    int st = pclose(f);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* Fraction of pixels of an image that differ from its corner pixel (the background)
+ * by more than 8/255 in some channel. */
+static inline double fixture_foreground_fraction(const char *png) {
+    pg_image img;
+    pg_error err = {0};
+    if (pg_image_read(png, 0, &img, &err) != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    int ch = img.channels < 3 ? img.channels : 3;
+    size_t np = (size_t)img.width * img.height, fg = 0;
+    for (size_t i = 0; i < np; i++) {
+        int diff = 0;
+        for (int c = 0; c < ch; c++) {
+            float d = (img.data[i * img.channels + c] - img.data[c]) * img.unit_scale;
+            diff |= d > 8.0f / 255 || d < -8.0f / 255;
+        }
+        fg += (size_t)diff;
+    }
+    pg_image_free(&img);
+    return (double)fg / (double)np;
+}
+
+#endif

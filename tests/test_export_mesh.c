@@ -1,0 +1,216 @@
+/* test_export_mesh.c - the globe mesh and the EXR, on the real Earth reprojected onto a
+ * small planet: seams are watertight (coincident vertices of different faces are
+ * bit-identical: gap exactly 0, normals too), normals are unit and tangents
+ * orthogonal to them, vertices are displaced by the exaggerated height (the
+ * Antarctic plateau stands out, the Arctic Ocean lies at sea level), the default
+ * mesh is about 200k triangles, options are checked, and the multi-part EXR reads
+ * back equal to the heights (in our reader, exrheader and oiiotool). */
+#include "export_fixture.h"
+
+#include "pg_export_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct vkey {
+    int L[3];
+    int face;
+    uint32_t v;
+} vkey;
+
+static int cmp_key(const void *a, const void *b) {
+    const vkey *x = a, *y = b;
+    for (int c = 0; c < 3; c++)
+        if (x->L[c] != y->L[c]) return x->L[c] < y->L[c] ? -1 : 1;
+    return x->face - y->face;
+}
+
+static void earth(pg_planet *p, int tiles, int tile_size) {
+    pg_error err = {0};
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    o.grid_width = 1350;
+    pg_exemplar ex;
+    assert_int_equal(pg_exemplar_load(&o, &ex, &err), PG_OK);
+    assert_int_equal(
+        pg_planet_alloc(p, PG_CUBE_EQUIANGULAR, tiles, tile_size, pg_ellipsoid_wgs84(), &err),
+        PG_OK);
+    assert_int_equal(pg_planet_from_exemplar(p, &ex, 1, &err), PG_OK);
+    pg_exemplar_free(&ex);
+}
+
+/* Group the vertices of all faces by their cube lattice point (computed here from the
+ * face frames, independently of the exporter) and measure coincident pairs. */
+static void check_watertight(const pg_export_mesh *mesh) {
+    int m = mesh->m, w = m + 1;
+    size_t total = 6 * (size_t)mesh->nv;
+    vkey *k = malloc(total * sizeof *k);
+    for (int f = 0; f < 6; f++) {
+        int n[3], eu[3], ev[3];
+        pg_cube_face_frame(f, n, eu, ev);
+        for (int j = 0; j <= m; j++)
+            for (int i = 0; i <= m; i++) {
+                vkey *e = &k[(size_t)f * mesh->nv + (size_t)j * w + i];
+                for (int c = 0; c < 3; c++)
+                    e->L[c] = m * n[c] + (2 * i - m) * eu[c] + (2 * j - m) * ev[c];
+                e->face = f, e->v = (uint32_t)(j * w + i);
+            }
+    }
+    qsort(k, total, sizeof *k, cmp_key);
+    size_t distinct = 0, coincident = 0;
+    double gap = 0, ngap = 0;
+    for (size_t a = 0; a < total; a++) {
+        if (a == 0 || memcmp(k[a].L, k[a - 1].L, sizeof k[a].L) != 0) {
+            distinct++;
+            continue;
+        }
+        const float *p0 = mesh->pos[k[a - 1].face] + 3 * k[a - 1].v;
+        const float *p1 = mesh->pos[k[a].face] + 3 * k[a].v;
+        const float *n0 = mesh->nrm[k[a - 1].face] + 3 * k[a - 1].v;
+        const float *n1 = mesh->nrm[k[a].face] + 3 * k[a].v;
+        for (int c = 0; c < 3; c++) {
+            gap = fmax(gap, fabs((double)p0[c] - p1[c]));
+            ngap = fmax(ngap, fabs((double)n0[c] - n1[c]));
+        }
+        coincident++;
+    }
+    printf("distinct vertices %zu, coincident pairs %zu, max gap %g m, normal gap %g\n", distinct,
+           coincident, gap, ngap);
+    assert_int_equal(distinct, 6 * (size_t)m * m + 2);          /* Euler: V = 6 m^2 + 2 */
+    assert_int_equal(coincident, 12 * (size_t)(m - 1) + 8 * 2); /* edges, corners */
+    assert_true(gap == 0.0);
+    assert_true(ngap == 0.0);
+    free(k);
+}
+
+static void check_frames(const pg_export_mesh *mesh) {
+    for (int f = 0; f < 6; f++)
+        for (uint32_t v = 0; v < mesh->nv; v++) {
+            const float *n = mesh->nrm[f] + 3 * v, *t = mesh->tan[f] + 4 * v;
+            double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            double lt = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+            assert_true(fabs(ln - 1) < 1e-5 && fabs(lt - 1) < 1e-5);
+            assert_true(fabs(n[0] * t[0] + n[1] * t[1] + n[2] * t[2]) < 1e-5);
+            assert_true(t[3] == 1.0f); /* right-handed frames: bitangent = +v */
+            /* outward: the normal points away from the centre */
+            const float *p = mesh->pos[f] + 3 * v;
+            assert_true(n[0] * p[0] + n[1] * p[1] + n[2] * p[2] > 0);
+        }
+}
+
+static void test_mesh_watertight_and_displaced(void **s) {
+    (void)s;
+    pg_planet p;
+    earth(&p, 2, 64);
+    pg_error err = {0};
+    pg_cube_grid g;
+    assert_int_equal(pg_cube_grid_init(&g, p.projection, p.tiles, p.tile_size, &err), PG_OK);
+    pg_export_mesh mesh;
+    assert_int_equal(pg_export_mesh_build(&p, &g, 32, 10.0, &mesh, &err), PG_OK);
+    check_watertight(&mesh);
+    check_frames(&mesh);
+    /* pole vertices (face centres): Arctic Ocean at sea level, Antarctica kilometres up */
+    double b = p.ellipsoid.a * (1 - p.ellipsoid.f);
+    uint32_t c = 16 * 33 + 16;
+    double zn = mesh.pos[PG_CUBE_FACE_PZ][3 * c + 2], zs = -mesh.pos[PG_CUBE_FACE_NZ][3 * c + 2];
+    printf("north pole %.1f m, south pole %.1f m above the ellipsoid (10x)\n", zn - b, zs - b);
+    assert_true(fabs(zn - b - 10 * p.sea_level) < 1.0);
+    assert_true(zs - b > 10 * 2000.0 && zs - b < 10 * 4500.0);
+    pg_export_mesh_free(&mesh);
+    /* the same on the equal-area projection, whose seams are not separable */
+    p.projection = PG_CUBE_EQUALAREA;
+    assert_int_equal(pg_cube_grid_init(&g, p.projection, p.tiles, p.tile_size, &err), PG_OK);
+    assert_int_equal(pg_export_mesh_build(&p, &g, 16, 10.0, &mesh, &err), PG_OK);
+    check_watertight(&mesh);
+    pg_export_mesh_free(&mesh);
+    pg_planet_free(&p);
+}
+
+static void test_options_checked(void **s) {
+    (void)s;
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    pg_error err = {0};
+    /* default planet: 128 quads per face edge, 196608 triangles */
+    assert_int_equal(pg_export_default_mesh_res(4, 256), 128);
+    assert_int_equal(pg_export_check_opts(&o, 4, 256, &err), PG_OK);
+    assert_int_equal(pg_export_default_mesh_res(8, 512), 128);
+    const int bad_res[] = {100, 6, 2048 + 4, 2};
+    for (int i = 0; i < 4; i++) {
+        o.mesh_res = bad_res[i];
+        pg_error_clear(&err);
+        assert_int_equal(pg_export_check_opts(&o, 4, 256, &err), PG_ERR_BADINPUT);
+        assert_non_null(strstr(err.msg, "--mesh-res"));
+    }
+    o.mesh_res = 0;
+    const double bad_x[] = {-1, 1e6, NAN};
+    for (int i = 0; i < 3; i++) {
+        o.exaggeration = bad_x[i];
+        pg_error_clear(&err);
+        assert_int_equal(pg_export_check_opts(&o, 4, 256, &err), PG_ERR_BADINPUT);
+        assert_non_null(strstr(err.msg, "--exaggeration"));
+    }
+    pg_export_texture_format tf;
+    pg_error_clear(&err);
+    assert_int_equal(pg_export_texture_format_parse("gif", "--texture-format", &tf, &err),
+                     PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "--texture-format 'gif'"));
+    assert_int_equal(pg_export_texture_format_parse("jpeg", "--texture-format", &tf, &err), PG_OK);
+    assert_int_equal(tf, PG_EXPORT_TEXTURE_JPEG);
+}
+
+static void test_exr_roundtrip(void **s) {
+    (void)s;
+    pg_planet p;
+    earth(&p, 2, 32);
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.glb = o.previews = false;
+    fixture_stage st;
+    pg_test_scratch_dir("export_exr", st.dir, sizeof st.dir);
+    pg_error err = {0};
+    /* an exaggeration whose relief passes a quarter of the radius is refused */
+    o.exaggeration = 900;
+    assert_int_equal(pg_export_write(&p, &o, fixture_path, &st, NULL, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "quarter of the"));
+    o.exaggeration = 10;
+    pg_error_clear(&err);
+    pg_export_result r;
+    assert_int_equal(pg_export_write(&p, &o, fixture_path, &st, &r, &err), PG_OK);
+    assert_int_equal(r.nfiles, 1);
+    char path[1300];
+    snprintf(path, sizeof path, "%s/height.exr", st.dir);
+    int64_t n = p.n;
+    for (int f = 0; f < 6; f++) {
+        pg_image img;
+        assert_int_equal(pg_image_read_exr(path, pg_cube_face_name(f), &img, &err), PG_OK);
+        assert_int_equal(img.width, n);
+        assert_int_equal(img.channels, 1);
+        for (int64_t y = 0; y < n; y++) /* file rows top-down, face rows bottom-up */
+            assert_memory_equal(img.data + (n - 1 - y) * n, p.height[f] + y * n,
+                                (size_t)n * sizeof(float));
+        pg_image_free(&img);
+    }
+    /* OpenEXR's own tool and OpenImageIO read it: six float parts named by face */
+    char cmd[1500], out[65536];
+    snprintf(cmd, sizeof cmd, "exrheader '%s' 2>&1", path);
+    assert_int_equal(fixture_sh(cmd, out, sizeof out), 0);
+    for (int f = 0; f < 6; f++) {
+        char want[64];
+        snprintf(want, sizeof want, "name (type string): \"%s\"", pg_cube_face_name(f));
+        assert_non_null(strstr(out, want));
+    }
+    snprintf(cmd, sizeof cmd, "oiiotool --info -v '%s' 2>&1", path);
+    assert_int_equal(fixture_sh(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "6 subimages"));
+    assert_non_null(strstr(out, "float"));
+    pg_planet_free(&p);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_options_checked),
+                                       cmocka_unit_test(test_mesh_watertight_and_displaced),
+                                       cmocka_unit_test(test_exr_roundtrip)};
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
