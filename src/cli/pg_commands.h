@@ -8,6 +8,5 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv);
 int pg_cmd_synth(pg_cli *cli, int argc, char **argv);
 int pg_cmd_grid(pg_cli *cli, int argc, char **argv);
 int pg_cmd_pits(pg_cli *cli, int argc, char **argv);
-int pg_cmd_export(pg_cli *cli, int argc, char **argv);
 
 #endif
