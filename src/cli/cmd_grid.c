@@ -78,9 +78,9 @@ int pg_cmd_grid(pg_cli *cli, int argc, char **argv) {
     grid_args a = {"equi-angular", "sphere", 8, 256};
     const pg_opt opts[] = {{"--projection", NULL, PG_OPT_STRING, &a.projection, 0, 0, NULL, "P",
                             "gnomonic, equi-angular (default) or equal-area"},
-                           {"--tiles", NULL, PG_OPT_INT, &a.tiles, -1e9, 1e9, NULL, "T",
+                           {"--tiles", NULL, PG_OPT_INT, &a.tiles, 1, 65536, NULL, "T",
                             "tiles per face edge, >= 1 (default 8)"},
-                           {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, -1e9, 1e9, NULL, "S",
+                           {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 16, 8192, NULL, "S",
                             "texels per tile edge, a power of two in 16..8192 (default 256)"},
                            {"--planet", NULL, PG_OPT_STRING, &a.planet, 0, 0, NULL, "E",
                             "sphere (R = 6371008.8 m, default), wgs84, or RADIUS_M,FLATTENING"},
