@@ -8,10 +8,12 @@
  * counts the depressions before and after. Figures only; nothing is asserted.
  *
  * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats]
- *                   [--only PREFIX]   (e.g. --only "fill (plain)") */
+ *                   [--only PREFIX]   (e.g. --only "fill (plain)")
+ *        bench_pits --synth   (Gain-pit's share of a 1024^2 flat synthesis) */
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_pits.h"
+#include "planetgen/pg_pits_synth.h"
 
 #include <math.h>
 #include <omp.h>
@@ -131,8 +133,57 @@ static void bench(const char *label, const pg_pits_topo *t, const float *dem, do
     free(b);
 }
 
+/* The cost of Gain-pit inside the synthesis: a 256^2 crop of the relief (Himalaya)
+ * as a toroidal exemplar, a flat N x N synthesis with and without the hook. */
+static void bench_synth(const float *dem, int w, int n) {
+    enum { E = 256 };
+    float *h = malloc(sizeof(float) * E * E), *rgb = malloc(sizeof(float) * E * E * 3);
+    int x0 = w * 80 / 360, y0 = w / 2 * 58 / 180; /* about 80 E, 32 N */
+    for (int y = 0; y < E; y++)
+        for (int x = 0; x < E; x++) {
+            float v = dem[(size_t)(y0 + y) * w + x0 + x];
+            h[y * E + x] = v;
+            for (int c = 0; c < 3; c++)
+                rgb[(y * E + x) * 3 + c] = 0.2f + 0.1f * c + 1e-4f * v;
+        }
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    ep.face_size = E;
+    ep.levels = 5;
+    pg_synth_exemplar *ex = NULL;
+    pg_synth_prep_info info;
+    pg_error err = {0};
+    if (pg_synth_prepare_torus(rgb, h, E, 0.0f, &ep, "", &ex, &info, &err)) {
+        printf("synthesis: exemplar failed: %s\n", err.msg);
+        return;
+    }
+    pg_synth_params p;
+    pg_synth_params_default(&p);
+    for (int with = 0; with < 2; with++) {
+        pg_pits_gainpit gp;
+        pg_pits_gainpit_init(&gp);
+        pg_synth_result r;
+        double t0 = omp_get_wtime();
+        if (pg_synth_flat(ex, n, &p, with ? pg_pits_gainpit_hook : NULL, &gp, &r, &err)) {
+            printf("synthesis failed: %s\n", err.msg);
+            break;
+        }
+        double sec = omp_get_wtime() - t0;
+        printf("synthesis %dx%d (exemplar 256^2 relief crop, %d levels) %s Gain-pit: %.2f s", n, n,
+               ep.levels, with ? "with" : "without", sec);
+        if (with)
+            printf(", pit removal %.2f s = %.1f%% (%llu passes)", gp.seconds,
+                   100 * gp.seconds / sec, (unsigned long long)gp.runs);
+        printf("\n");
+        pg_synth_result_free(&r);
+    }
+    pg_synth_exemplar_free(ex);
+    free(h);
+    free(rgb);
+}
+
 int main(int argc, char **argv) {
-    int synthetic = 0, flat = 1, planet = 1, stats = 1;
+    int synthetic = 0, flat = 1, planet = 1, stats = 1, synth = 0;
     const char *only = NULL; /* run only the methods whose name starts with this */
     long N = 2048;
     for (int i = 1; i < argc; i++) {
@@ -148,6 +199,8 @@ int main(int argc, char **argv) {
             N = atol(argv[++i]);
         else if (!strcmp(argv[i], "--only") && i + 1 < argc)
             only = argv[++i];
+        else if (!strcmp(argv[i], "--synth"))
+            synth = 1, flat = planet = 0;
         else {
             fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] "
                             "[--no-stats] [--only PREFIX]\n");
@@ -179,6 +232,7 @@ int main(int argc, char **argv) {
         dem = fractal(w, h);
         printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
     }
+    if (synth) bench_synth(dem, w, 1024);
     pg_pits_topo t;
     if (flat) {
         pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
