@@ -16,6 +16,7 @@ typedef struct pg_command {
 
 static const pg_command pg_commands[] = {
     {"exemplar", pg_cmd_exemplar, "load an exemplar, print its statistics, write previews"},
+    {"generate", pg_cmd_generate, "synthesize a whole planet by example on the cube sphere"},
     {"grid", pg_cmd_grid, "describe a cube-sphere grid: counts, texel areas, distortion"},
     {"pits", pg_cmd_pits, "remove pits from a DEM (fill, breach, hybrid) or count them"},
     {"synth", pg_cmd_synth, "synthesize a flat N x N terrain by example (Lefebvre-Hoppe)"},

@@ -6,6 +6,7 @@
 
 int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv);
 int pg_cmd_synth(pg_cli *cli, int argc, char **argv);
+int pg_cmd_generate(pg_cli *cli, int argc, char **argv);
 int pg_cmd_grid(pg_cli *cli, int argc, char **argv);
 int pg_cmd_pits(pg_cli *cli, int argc, char **argv);
 

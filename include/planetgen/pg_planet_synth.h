@@ -1,0 +1,164 @@
+/* pg_planet_synth.h - whole-planet synthesis by example on the cube sphere (issue 5),
+ * terrain types (Gain et al. 2015 type constraints, EarthGen's four planet kinds) and
+ * the elevation guide (Scott & Dodgson 2021 soft constraints).
+ *
+ * THE DRIVER (pg_planet_synth_run) runs the Lefebvre-Hoppe engine of pg_synth.h
+ * level-synchronously over all 6 T^2 tiles of the planet: at every level and every
+ * correction sub-pass, each tile is corrected through a view whose one-texel halo is
+ * its neighbours' current edge texels (across tile edges and, through the adjacency
+ * map of pg_cube.h, across face seams, with the seam rotation in the view's orient).
+ * Sub-passes are order-independent (see pg_synth_lefebvre_hoppe.c), so all tiles are
+ * corrected in parallel and the output is bit-identical for any tile size and any
+ * thread count. Randomness is a hash of (seed, level, face, x, y).
+ *
+ * CONTROL
+ *  - layout earth: the coarsest level starts from the exemplar cube at the same
+ *    direction, and jitter starts only below the top keep_levels levels; layout free:
+ *    the coarsest level starts from hashed random exemplar texels.
+ *  - guide: a grey elevation sketch resampled onto every level is blended into the
+ *    reconstructed heights after every correction pass, R <- w G + (1 - w) R, with w
+ *    halving at each finer level (Scott & Dodgson 2021 §4.2, exponential weighting).
+ *  - types: every exemplar texel is classified (pg_types_classify); an allowed-type
+ *    mask per output texel (a type map or a preset) rejects disallowed candidates
+ *    after each sub-pass: a disallowed texel takes the first allowed coherent
+ *    candidate of its neighbours, else a hashed draw among the valid exemplar texels.
+ *
+ * PITS (Gain-pit, Scott 2020 §4.2.1): after each correction pass at every level but the
+ * finest pit_skip_levels, the planet's heights R = E_s(S) + V are made pit-free
+ * globally on the cube sphere (pg_pits) and V += R' - R. A final pass on the
+ * delivered heights removes the rest. */
+#ifndef PLANETGEN_PG_PLANET_SYNTH_H
+#define PLANETGEN_PG_PLANET_SYNTH_H
+
+#include "planetgen/pg_common.h"
+#include "planetgen/pg_pits.h"
+#include "planetgen/pg_planet.h"
+#include "planetgen/pg_synth.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------ types ------------------------------------ */
+
+typedef enum pg_types_id {
+    PG_TYPE_OCEAN,
+    PG_TYPE_ICE,      /* ice and snow */
+    PG_TYPE_DESERT,   /* desert and bare ground */
+    PG_TYPE_GRASS,    /* grass and sparse vegetation */
+    PG_TYPE_FOREST,   /* forest */
+    PG_TYPE_MOUNTAIN, /* high ground that is not ice */
+    PG_TYPE_COUNT
+} pg_types_id;
+
+#define PG_TYPES_ALL ((uint8_t)((1u << PG_TYPE_COUNT) - 1))
+
+/* "ocean", "ice", "desert", "grass", "forest", "mountain". */
+const char *pg_types_name(int type);
+/* The colour that names the type in a type map (sRGB 0..255). */
+void pg_types_colour(int type, uint8_t rgb[3]);
+
+/* The classification rule (documented in pg_types.c) of one exemplar texel from its
+ * sRGB albedo and its height in metres. */
+int pg_types_classify(const uint8_t rgb[3], float height_m, float sea_level);
+
+/* Type of every texel of a prepared exemplar (nfaces*E*E bytes; caller frees). */
+uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex);
+
+/* Allowed-type mask of a preset: "earth" (all), "desert", "snow", "grassland".
+ * BADINPUT naming --preset for anything else. */
+pg_status pg_types_preset(const char *name, uint8_t *mask, pg_error *err);
+
+/* A type map: an equirectangular image whose pixels are type colours (or black =
+ * any type). Loaded into a mask image (w x h bytes). BADINPUT if unreadable, not
+ * 2:1, or with colours that name no type (they are listed). */
+typedef struct pg_types_map {
+    int width, height;
+    uint8_t *mask;
+} pg_types_map;
+pg_status pg_types_map_load(const char *path, pg_types_map *m, pg_error *err);
+void pg_types_map_free(pg_types_map *m);
+
+/* ------------------------------------ guide ------------------------------------ */
+
+/* An equirectangular grey elevation sketch, white high, black low: grey g in 0..1 is
+ * g_low_m + g * (g_high_m - g_low_m) metres. */
+typedef struct pg_guide {
+    int width, height;
+    float *metres;
+} pg_guide;
+#define PG_GUIDE_LOW_M (-4000.0)
+#define PG_GUIDE_HIGH_M 4000.0
+pg_status pg_guide_load(const char *path, pg_guide *g, pg_error *err);
+void pg_guide_free(pg_guide *g);
+/* Read an equirectangular image for `option` (BADINPUT naming it and the path if it is
+ * unreadable or not 2:1). */
+struct pg_image;
+pg_status pg_guide_read_equirect(const char *path, const char *option, struct pg_image *img,
+                                 pg_error *err);
+
+/* Blend weight of the guide at scale s when the coarsest scale is s_top:
+ * alpha * 2^-(s_top - s) (halves at each finer level). */
+double pg_guide_weight(double alpha, int s_top, int scale);
+
+/* ---------------------------------- the driver ---------------------------------- */
+
+typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE } pg_planet_layout;
+
+typedef struct pg_planet_synth_params {
+    int tiles, tile_size;        /* T, S; S must be a multiple of 2^(levels-1) */
+    pg_synth_params synth;       /* seed, jitter, passes, ... (tile_size ignored) */
+    pg_planet_layout layout;     /* default earth */
+    int keep_levels;             /* layout earth: top levels without jitter; default 2 */
+    const pg_guide *guide;       /* NULL: none */
+    double guide_alpha;          /* blend weight at the coarsest level; default 0.8 */
+    uint8_t type_mask;           /* allowed types everywhere (preset); default all */
+    const pg_types_map *types;   /* NULL: type_mask everywhere */
+    bool pits;                   /* Gain-pit and the final pass; default true */
+    int pit_skip_levels;         /* finest levels without Gain-pit; default 1 */
+    pg_pits_method pit_method;   /* inside the synthesis; default breach */
+    bool final_pits;             /* default true */
+    pg_pits_method final_method; /* default breach (with epsilon) */
+    bool pit_stats;              /* count depressions before and after the final pass */
+    bool independent_tiles;      /* TEST ONLY: tiles see no neighbours (halo = their own
+                                    edge continued), to show that seams then appear */
+    void (*progress)(void *user, double frac); /* optional */
+    void *progress_user;
+} pg_planet_synth_params;
+
+void pg_planet_synth_params_default(pg_planet_synth_params *p);
+
+typedef struct pg_planet_synth_info {
+    int s_top, nlevels;
+    double level_seconds[PG_SYNTH_MAX_LEVELS + 8];
+    double synth_seconds, pits_seconds, render_seconds, final_pits_seconds;
+    uint64_t pit_cells_changed;  /* summed over the Gain-pit passes */
+    pg_pits_stats before, after; /* depressions before/after the final pass (pit_stats) */
+    double land_agreement;       /* layout earth: land/ocean match with the exemplar at
+                                    the coarsest kept level (NaN otherwise) */
+    double allowed_fraction;     /* texels of the finest level with an allowed type */
+    double peak_bytes_estimate;
+} pg_planet_synth_info;
+
+/* Bytes the driver needs beyond the prepared exemplar for a planet of T x S. */
+double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p);
+
+/* Check the parameters against the exemplar (BADINPUT naming the option). */
+pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                                pg_error *err);
+
+/* Synthesize a planet: out is allocated (pg_planet_alloc, default projection, WGS84)
+ * and filled with albedo and heights. Optionally returns the finest exemplar coordinates
+ * (6*N*N, global texel ids; caller frees) for tests. */
+pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                              pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
+                              pg_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

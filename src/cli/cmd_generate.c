@@ -1,0 +1,403 @@
+/* cmd_generate.c - `planetgen generate`: synthesize a whole planet by example on the cube
+ * sphere (pg_planet_synth.h) and write the planet directory (pg_planet_save: per-face
+ * albedo PNGs, height.exr, planet.json), equirectangular previews albedo.png and
+ * relief.png, and a JSON report of parameters, stage timings and quality figures.
+ *
+ * Every input is validated before work: numbers and choices, the pyramid (S a multiple
+ * of 2^(levels-1)), the guide and type map (readable, 2:1, known colours), the preset,
+ * and the memory estimate against the available memory (refused with the estimate
+ * unless --max-memory raises the limit). Outputs are staged and renamed at the end. */
+#include "pg_commands.h"
+
+#include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_json.h"
+#include "planetgen/pg_planet_synth.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GEN_LEVELS 6           /* analysed levels of the exemplar (pg_synth default) */
+#define GEN_EXEMPLAR_BYTES 4e8 /* the prepared exemplar and the loaded source images */
+
+typedef struct gen_args {
+    const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
+    const char *albedo, *height;
+    long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
+    double jitter, guide_weight, max_memory_gb;
+    bool no_cache, independent;
+} gen_args;
+
+typedef struct gen_inputs {
+    pg_guide guide;
+    pg_types_map types;
+    uint8_t mask;
+    bool has_guide, has_types;
+} gen_inputs;
+
+static double available_bytes(void) {
+    FILE *f = fopen("/proc/meminfo", "r");
+    double kb = 0;
+    char line[256];
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
+    if (f) fclose(f);
+    return kb > 0 ? kb * 1024.0 : 8e9;
+}
+
+static int validate(pg_cli *cli, const gen_args *a) {
+    long S = a->tile_size, need = 1L << (GEN_LEVELS - 1);
+    if (S < 16 || S > 8192 || (S & (S - 1)))
+        return pg_cli_usage_error(cli, "--tile-size %ld: must be a power of two in 16..8192", S);
+    if (S % need)
+        return pg_cli_usage_error(cli,
+                                  "--tile-size %ld: does not divide into the %d-level pyramid "
+                                  "(must be a multiple of 2^%d = %ld)",
+                                  S, GEN_LEVELS, GEN_LEVELS - 1, need);
+    if (a->keep_levels > GEN_LEVELS)
+        return pg_cli_usage_error(cli, "--keep-levels %ld: must be in 0..%d", a->keep_levels,
+                                  GEN_LEVELS);
+    if (a->pit_skip > GEN_LEVELS)
+        return pg_cli_usage_error(cli, "--pit-skip-levels %ld: must be in 0..%d", a->pit_skip,
+                                  GEN_LEVELS);
+    return 0;
+}
+
+static pg_status load_inputs(const gen_args *a, gen_inputs *in, pg_error *err) {
+    memset(in, 0, sizeof *in);
+    in->mask = PG_TYPES_ALL;
+    pg_status st = a->preset ? pg_types_preset(a->preset, &in->mask, err) : PG_OK;
+    if (!st && a->guide) {
+        st = pg_guide_load(a->guide, &in->guide, err);
+        in->has_guide = !st;
+    }
+    if (!st && a->types) {
+        st = pg_types_map_load(a->types, &in->types, err);
+        in->has_types = !st;
+    }
+    return st;
+}
+
+static void free_inputs(gen_inputs *in) {
+    if (in->has_guide) pg_guide_free(&in->guide);
+    if (in->has_types) pg_types_map_free(&in->types);
+}
+
+static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
+    pg_planet_synth_params_default(p);
+    p->tiles = (int)a->tiles;
+    p->tile_size = (int)a->tile_size;
+    p->synth.seed = (uint64_t)a->seed;
+    p->synth.jitter = a->jitter;
+    p->synth.passes = (int)a->passes;
+    /* with a guide and no explicit layout, the sketch gives the arrangement */
+    p->layout = a->layout ? (!strcmp(a->layout, "free") ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH)
+                          : (a->guide ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH);
+    p->keep_levels = (int)a->keep_levels;
+    p->guide = in->has_guide ? &in->guide : NULL;
+    p->guide_alpha = a->guide_weight;
+    p->type_mask = in->mask;
+    p->types = in->has_types ? &in->types : NULL;
+    p->pits = strcmp(a->pits, "off") != 0;
+    p->pit_skip_levels = (int)a->pit_skip;
+    p->final_pits = strcmp(a->final_pits, "none") != 0;
+    if (p->final_pits) pg_pits_method_parse(a->final_pits, &p->final_method);
+    p->independent_tiles = a->independent;
+}
+
+static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
+                        double *need_out) {
+    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + GEN_EXEMPLAR_BYTES;
+    double have = a->max_memory_gb > 0 ? a->max_memory_gb * 1e9 : available_bytes();
+    *need_out = need;
+    if (need > have)
+        return pg_cli_usage_error(cli,
+                                  "--tiles %ld --tile-size %ld: needs about %.2f GB of memory, "
+                                  "more than the %.2f GB %s (raise it with --max-memory GB)",
+                                  a->tiles, a->tile_size, need / 1e9, have / 1e9,
+                                  a->max_memory_gb > 0 ? "allowed by --max-memory" : "available");
+    return 0;
+}
+
+static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                                  char *src_name, size_t name_size, pg_error *err) {
+    pg_exemplar_opts eo;
+    pg_exemplar_opts_default(&eo);
+    eo.albedo_path = a->albedo;
+    eo.height_path = a->height;
+    pg_exemplar src;
+    pg_status st = pg_exemplar_load(&eo, &src, err);
+    if (st) return st;
+    snprintf(src_name, name_size, "%s + %s", src.albedo_src, src.height_src);
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    ep.face_size = (int)a->face_size;
+    ep.levels = GEN_LEVELS;
+    st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height, src.sea_level,
+                                   &ep, a->no_cache ? "" : a->cache_dir, ex, pi, err);
+    pg_exemplar_free(&src);
+    return st;
+}
+
+/* ---- outputs ---- */
+
+typedef struct path_ctx {
+    pg_cli *cli;
+    const char *dir;
+} path_ctx;
+
+static const char *path_for(const char *name, void *user) {
+    path_ctx *pc = user;
+    return pg_cli_output_path(pc->cli, pc->dir, name);
+}
+
+/* Box-average the faces down to m x m (m divides n) into one cube buffer. */
+static float *small_cube(const pg_planet *p, int m, bool albedo) {
+    const int64_t n = p->n, k = n / m;
+    const int ch = albedo ? 3 : 1;
+    float *c = calloc((size_t)6 * m * m * ch, sizeof(float));
+    if (!c) return NULL;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * m; row++) {
+        int f = row / m, y = row % m;
+        const float *src = albedo ? p->albedo[f] : p->height[f];
+        for (int x = 0; x < m; x++)
+            for (int q = 0; q < ch; q++) {
+                double s = 0;
+                for (int64_t j = 0; j < k; j++)
+                    for (int64_t i = 0; i < k; i++)
+                        s += src[((y * k + j) * n + x * k + i) * ch + q];
+                c[(((size_t)f * m + y) * m + x) * ch + q] = (float)(s / (double)(k * k));
+            }
+    }
+    return c;
+}
+
+static pg_status write_previews(pg_cli *cli, const char *dir, const pg_planet *p, int width,
+                                pg_error *err) {
+    int m = (int)p->n;
+    while (m > width / 4 && m % 2 == 0)
+        m /= 2;
+    const int w = width, h = width / 2;
+    pg_image img = {0}, hgt = {0};
+    float *ca = small_cube(p, m, true), *ch = small_cube(p, m, false);
+    pg_status st = ca && ch ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "previews: out of memory");
+    if (!st) st = pg_image_alloc(&img, w, h, 3, err);
+    if (!st) st = pg_image_alloc(&hgt, w, h, 1, err);
+    if (!st) st = pg_cube_to_equirect(p->projection, m, NULL, ca, 3, img.data, w, h, err);
+    const char *path = NULL;
+    if (!st && !(path = pg_cli_output_path(cli, dir, "albedo.png")))
+        st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    if (!st) st = pg_image_write_png(path, &img, 8, err);
+    if (!st) st = pg_cube_to_equirect(p->projection, m, NULL, ch, 1, hgt.data, w, h, err);
+    if (!st) {
+        pg_relief_shade(hgt.data, w, h, p->sea_level, img.data);
+        path = pg_cli_output_path(cli, dir, "relief.png");
+        st = path ? pg_image_write_png(path, &img, 8, err)
+                  : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    }
+    free(ca);
+    free(ch);
+    pg_image_free(&img);
+    pg_image_free(&hgt);
+    return st;
+}
+
+static void report_depressions(pg_json *o, const char *key, const pg_pits_stats *s) {
+    pg_json *d = pg_json_set_object(o, key);
+    pg_json_set_number(d, "depressions", (double)s->depressions);
+    pg_json_set_number(d, "depression_cells", (double)s->depression_cells);
+    pg_json_set_number(d, "depression_area_m2", s->depression_area_m2);
+    pg_json_set_number(d, "depression_volume_m3", s->depression_volume_m3);
+    pg_json_set_number(d, "max_depth_m", s->max_depth_m);
+}
+
+static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
+                   const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need) {
+    double mpx = 6.0 * (double)a->tiles * a->tiles * a->tile_size * a->tile_size / 1e6;
+    pg_cli_info(cli, "exemplar %s in %.2f s\n", pi->from_cache ? "loaded from cache" : "prepared",
+                pi->seconds);
+    pg_cli_info(cli, "planet   6 x %ld^2 tiles of %ld^2 = %.1f Mpx in %.2f s (%.2f Mpx/s)\n",
+                a->tiles, a->tile_size, mpx, si->synth_seconds, mpx / si->synth_seconds);
+    if (!isnan(si->land_agreement))
+        pg_cli_info(cli, "layout   land/ocean agreement with the exemplar %.1f%%\n",
+                    100 * si->land_agreement);
+    if (p->type_mask != PG_TYPES_ALL || p->types)
+        pg_cli_info(cli, "types    %.1f%% of texels of allowed types\n",
+                    100 * si->allowed_fraction);
+    if (p->pit_stats)
+        pg_cli_info(cli, "pits     depressions %llu before the final pass, %llu after\n",
+                    (unsigned long long)si->before.depressions,
+                    (unsigned long long)si->after.depressions);
+    pg_json *r = pg_cli_report(cli);
+    if (!r) return;
+    pg_json *pp = pg_json_set_object(r, "parameters");
+    pg_json_set_number(pp, "tiles", (double)a->tiles);
+    pg_json_set_number(pp, "tile_size", (double)a->tile_size);
+    pg_json_set_number(pp, "seed", (double)a->seed);
+    pg_json_set_string(pp, "layout", p->layout == PG_LAYOUT_EARTH ? "earth" : "free");
+    pg_json_set_number(pp, "keep_levels", p->keep_levels);
+    pg_json_set_number(pp, "jitter", p->synth.jitter);
+    pg_json_set_number(pp, "passes", p->synth.passes);
+    pg_json_set_string(pp, "guide", a->guide ? a->guide : "");
+    pg_json_set_number(pp, "guide_weight", p->guide_alpha);
+    pg_json_set_string(pp, "types", a->types ? a->types : "");
+    pg_json_set_string(pp, "preset", a->preset ? a->preset : "");
+    pg_json_set_string(pp, "pits", a->pits);
+    pg_json_set_number(pp, "pit_skip_levels", p->pit_skip_levels);
+    pg_json_set_string(pp, "final_pits", a->final_pits);
+    pg_json *res = pg_json_set_object(r, "results");
+    pg_json_set_number(res, "megapixels", mpx);
+    pg_json_set_number(res, "exemplar_prep_seconds", pi->seconds);
+    pg_json_set_bool(res, "exemplar_from_cache", pi->from_cache);
+    pg_json_set_number(res, "synth_seconds", si->synth_seconds);
+    pg_json_set_number(res, "mpx_per_second", mpx / si->synth_seconds);
+    pg_json_set_number(res, "gain_pit_seconds", si->pits_seconds);
+    pg_json_set_number(res, "gain_pit_cells_changed", (double)si->pit_cells_changed);
+    pg_json_set_number(res, "final_pits_seconds", si->final_pits_seconds);
+    pg_json_set_number(res, "render_seconds", si->render_seconds);
+    pg_json *lv = pg_json_set_array(res, "level_seconds");
+    for (int i = 0; i < si->nlevels; i++)
+        pg_json_push_number(lv, si->level_seconds[i]);
+    pg_json_set_number(res, "memory_estimate_bytes", need);
+    pg_json_set_number(res, "land_agreement", isnan(si->land_agreement) ? -1 : si->land_agreement);
+    pg_json_set_number(res, "allowed_type_fraction", si->allowed_fraction);
+    if (p->pit_stats) {
+        report_depressions(res, "pits_before", &si->before);
+        report_depressions(res, "pits_after", &si->after);
+    }
+}
+
+static void on_progress(void *user, double frac) {
+    pg_cli_progress(user, frac);
+}
+
+static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
+    pg_planet_synth_params p;
+    set_params(a, in, &p);
+    double need;
+    int rc = check_memory(cli, a, &p, &need);
+    if (rc) return rc;
+    pg_error err = {0};
+    if (pg_cli_prepare_outdir(cli, a->outdir, &err) != PG_OK) return pg_cli_fail(cli, &err);
+    pg_synth_exemplar *ex = NULL;
+    pg_synth_prep_info pi;
+    char src_name[1100];
+    pg_cli_stage_begin(cli, "prepare exemplar");
+    if (prepare_exemplar(a, &ex, &pi, src_name, sizeof src_name, &err))
+        return pg_cli_fail(cli, &err);
+    pg_cli_stage_end(cli);
+    p.progress = on_progress;
+    p.progress_user = cli;
+    pg_planet planet;
+    pg_planet_synth_info si;
+    pg_cli_stage_begin(cli, "synthesize");
+    pg_status st = pg_planet_synth_run(ex, &p, &planet, NULL, &si, &err);
+    pg_cli_stage_end(cli);
+    pg_synth_exemplar_free(ex);
+    if (st) return pg_cli_fail(cli, &err);
+    src_name[sizeof planet.exemplar - 1] = 0;
+    memcpy(planet.exemplar, src_name, sizeof planet.exemplar);
+    pg_cli_stage_begin(cli, "write planet");
+    path_ctx pc = {cli, a->outdir};
+    st = pg_planet_save(&planet, path_for, &pc, &err);
+    pg_cli_stage_end(cli);
+    if (!st) {
+        pg_cli_stage_begin(cli, "write previews");
+        int w = a->preview_width > 0 ? (int)a->preview_width
+                                     : (int)(4 * planet.n < 2048 ? 4 * planet.n : 2048);
+        st = write_previews(cli, a->outdir, &planet, w, &err);
+        pg_cli_stage_end(cli);
+    }
+    pg_planet_free(&planet);
+    if (st) return pg_cli_fail(cli, &err);
+    report(cli, a, &p, &pi, &si, need);
+    return pg_cli_finish(cli);
+}
+
+int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
+    gen_args a = {.outdir = "planet",
+                  .pits = "on",
+                  .final_pits = "breach",
+                  .tiles = 4,
+                  .tile_size = 256,
+                  .seed = 1,
+                  .keep_levels = 2,
+                  .pit_skip = 1,
+                  .passes = 2,
+                  .face_size = 512,
+                  .jitter = 0.4,
+                  .guide_weight = 0.8};
+    const pg_opt opts[] = {
+        {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "DIR",
+         "planet directory (default: planet)"},
+        {"--tiles", NULL, PG_OPT_INT, &a.tiles, 1, 4096, NULL, "T", "tiles per face edge (4)"},
+        {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 1, 1 << 20, NULL, "S",
+         "texels per tile edge, a power of two, multiple of 32 (256)"},
+        {"--seed", NULL, PG_OPT_INT, &a.seed, 0, 9007199254740992.0, NULL, "N", "random seed (1)"},
+        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "earth|free", "L",
+         "earth: continents where Earth has them; free: a new arrangement (default earth, or "
+         "free with --guide)"},
+        {"--keep-levels", NULL, PG_OPT_INT, &a.keep_levels, 0, 64, NULL, "K",
+         "layout earth: coarsest levels kept without jitter (2)"},
+        {"--guide", NULL, PG_OPT_STRING, &a.guide, 0, 0, NULL, "PNG",
+         "equirectangular grey elevation sketch, white high, black low (soft constraint)"},
+        {"--guide-weight", NULL, PG_OPT_DOUBLE, &a.guide_weight, 0, 1, NULL, "A",
+         "guide blend weight at the coarsest level, halving per finer level (0.8)"},
+        {"--types", NULL, PG_OPT_STRING, &a.types, 0, 0, NULL, "PNG",
+         "equirectangular type map: ocean #0000ff ice #ffffff desert #ffff00 grass #00ff00 "
+         "forest #008000 mountain #808080 any #000000"},
+        {"--preset", NULL, PG_OPT_CHOICE, &a.preset, 0, 0, "earth|desert|snow|grassland", "P",
+         "planet kind (allowed terrain types everywhere)"},
+        {"--pits", NULL, PG_OPT_CHOICE, &a.pits, 0, 0, "on|off", "on|off",
+         "pit removal inside the synthesis and after it (on)"},
+        {"--pit-skip-levels", NULL, PG_OPT_INT, &a.pit_skip, 0, 64, NULL, "K",
+         "finest levels without Gain-pit (1)"},
+        {"--final-pits", NULL, PG_OPT_CHOICE, &a.final_pits, 0, 0, "breach|fill|hybrid|none", "M",
+         "final pit removal (breach, with epsilon)"},
+        {"--jitter", NULL, PG_OPT_DOUBLE, &a.jitter, 0, 1, NULL, "R", "jitter strength (0.4)"},
+        {"--passes", NULL, PG_OPT_INT, &a.passes, 1, 16, NULL, "C",
+         "correction passes per level (2)"},
+        {"--max-memory", NULL, PG_OPT_DOUBLE, &a.max_memory_gb, 0.001, 1e6, NULL, "GB",
+         "memory limit instead of the available memory"},
+        {"--preview-width", NULL, PG_OPT_INT, &a.preview_width, 16, 16384, NULL, "W",
+         "width of the equirectangular previews (default 4 N, at most 2048)"},
+        {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
+         "exemplar albedo (default: Blue Marble)"},
+        {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
+         "exemplar height (default: Marble's relief)"},
+        {"--face-size", NULL, PG_OPT_INT, &a.face_size, 64, 4096, NULL, "E",
+         "exemplar cube face size (512)"},
+        {"--cache-dir", NULL, PG_OPT_STRING, &a.cache_dir, 0, 0, NULL, "DIR",
+         "exemplar cache (default $XDG_CACHE_HOME/planetgen)"},
+        {"--no-cache", NULL, PG_OPT_FLAG, &a.no_cache, 0, 0, NULL, NULL,
+         "neither read nor write the exemplar cache"},
+        {"--independent-tiles", NULL, PG_OPT_FLAG, &a.independent, 0, 0, NULL, NULL,
+         "diagnostic: synthesize tiles without their neighbours (shows seams)"},
+        PG_OPT_END};
+    const char *pos[1];
+    int npos;
+    bool done;
+    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 0, &npos, &done);
+    if (rc) return rc;
+    if (done) {
+        pg_cli_print_help(cli, "[-o DIR] [--tiles T] [--tile-size S] [--seed N] [OPTIONS]",
+                          "Synthesize a whole planet by example on the cube sphere (Lefebvre-"
+                          "Hoppe per tile,\nneighbouring edges as constraints, Gain-pit pit "
+                          "removal) and write the planet\ndirectory, albedo.png and relief.png "
+                          "previews to DIR.",
+                          opts, stdout);
+        return 0;
+    }
+    if ((rc = validate(cli, &a))) return rc;
+    gen_inputs in;
+    pg_error err = {0};
+    if (load_inputs(&a, &in, &err)) {
+        free_inputs(&in);
+        return pg_cli_fail(cli, &err);
+    }
+    rc = run(cli, &a, &in);
+    free_inputs(&in);
+    return rc;
+}

@@ -1,0 +1,740 @@
+/* pg_planet_synth.c - level-synchronous Lefebvre-Hoppe synthesis of a whole cube-sphere
+ * planet (issue 5), with Gain-pit pit removal inside the pyramid (issue 6).
+ *
+ * Sources: Lefebvre & Hoppe 2005/2006 (the per-level operations, pg_synth.h); Gain,
+ * Merry & Marais 2015 (height offsets V, type constraints); Scott & Dodgson 2021 §4.2
+ * (guide blending with exponential weights) and Scott 2020 §4.2.1 (Gain-pit); EarthGen
+ * (seed 004 §4.3.4: tiles that read their neighbours' edges through an adjacency map),
+ * made exact with the integer seam maps of pg_cube.h.
+ *
+ * LAYOUT. Each level holds the six faces as (r + 2)^2 arrays of exemplar coordinates S
+ * and offsets V, a one-texel border around each face. Tiles are rectangles of a face
+ * (S >> s texels at scale s); a tile's view points into the shared face array, so its
+ * halo is literally its neighbours' current edge texels. Before every sub-pass the face
+ * borders are refreshed from the neighbouring faces through pg_cube_wrap, with the
+ * orientation that rotates offsets into the neighbour's frame. Then all tiles of all
+ * faces are corrected in parallel: a sub-pass writes one parity class and reads only
+ * the other classes and the halo (pg_synth_lefebvre_hoppe.c), so the result is the same
+ * for any tile size, any order and any thread count. Levels whose tiles would be smaller
+ * than one texel cannot occur: S must be a multiple of 2^s_top (checked).
+ *
+ * Type fix-up (after each sub-pass, same parity, same tile) and the guide blend and
+ * Gain-pit (after each pass, whole planet) keep that property: each reads only values
+ * the sub-pass did not write, or runs on the whole planet with a deterministic
+ * algorithm. */
+#include "planetgen/pg_planet_synth.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pg_planet_synth_params_default(pg_planet_synth_params *p) {
+    memset(p, 0, sizeof *p);
+    p->tiles = 4;
+    p->tile_size = 256;
+    pg_synth_params_default(&p->synth);
+    p->layout = PG_LAYOUT_EARTH;
+    p->keep_levels = 2;
+    p->guide_alpha = 0.8;
+    p->type_mask = PG_TYPES_ALL;
+    p->pits = true;
+    p->pit_skip_levels = 1;
+    p->pit_method = PG_PITS_BREACH;
+    p->final_pits = true;
+    p->final_method = PG_PITS_BREACH;
+    p->pit_stats = true;
+}
+
+static int top_scale(const pg_synth_exemplar *ex) {
+    return ex->levels - 1;
+}
+
+/* Bytes per finest texel, by phase (see pg_planet_synth_run for the order of
+ * allocations): synthesis (S, V with borders, the parent level, orient, type mask,
+ * guide, Gain-pit at the next-finest level) and delivery (planet 16, S and H 8, and
+ * what the final pit removal allocates, about 10). */
+double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p) {
+    double n = (double)tiles * tile_size, px = 6.0 * n * n;
+    double border = 6.0 * 4.0 * (n + 2) * 2 * 16;
+    double synth = 8 * 1.25 + 1 + (p && p->types ? 1 : 0) + (p && p->guide ? 4 : 0) +
+                   (p && p->pits ? 0.25 * 18 : 0);
+    double deliver = 16 + 8 + (p && p->pits ? 12 : 0);
+    return px * (synth > deliver ? synth : deliver) + border;
+}
+
+pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                                pg_error *err) {
+    if (!ex) return pg_error_set(err, PG_ERR_BADINPUT, "planet synthesis: no exemplar");
+    if (p->tiles < 1 || p->tiles > 4096)
+        return pg_error_set(err, PG_ERR_BADINPUT, "--tiles %d: must be in 1..4096", p->tiles);
+    int S = p->tile_size, need = 1 << top_scale(ex);
+    if (S < 16 || S > 8192 || (S & (S - 1)))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--tile-size %d: must be a power of two in 16..8192", S);
+    if (S % need)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--tile-size %d: does not divide into the %d-level pyramid (must be "
+                            "a multiple of 2^%d = %d so the coarsest level has whole texels per "
+                            "tile)",
+                            S, ex->levels, top_scale(ex), need);
+    if ((int64_t)p->tiles * S > PG_SYNTH_MAX_FACE_SIZE * 4)
+        return pg_error_set(err, PG_ERR_BADINPUT, "--tiles x --tile-size %lld: too large",
+                            (long long)p->tiles * S);
+    if (p->keep_levels < 0 || p->keep_levels > ex->levels)
+        return pg_error_set(err, PG_ERR_BADINPUT, "--keep-levels %d: must be in 0..%d",
+                            p->keep_levels, ex->levels);
+    if (p->pit_skip_levels < 0 || p->pit_skip_levels > ex->levels)
+        return pg_error_set(err, PG_ERR_BADINPUT, "--pit-skip-levels %d: must be in 0..%d",
+                            p->pit_skip_levels, ex->levels);
+    if (!(p->guide_alpha >= 0 && p->guide_alpha <= 1))
+        return pg_error_set(err, PG_ERR_BADINPUT, "--guide-weight %g: must be in [0, 1]",
+                            p->guide_alpha);
+    if (!(p->type_mask & PG_TYPES_ALL))
+        return pg_error_set(err, PG_ERR_BADINPUT, "types: no type allowed");
+    return PG_OK;
+}
+
+/* ---------------------------------- level storage ---------------------------------- */
+
+typedef struct level {
+    int r;        /* texels per face edge */
+    ptrdiff_t st; /* row stride r + 2 */
+    size_t fsz;   /* (r + 2)^2 */
+    uint32_t *S;  /* 6 * fsz */
+    float *V;
+} level;
+
+static size_t at(const level *L, int f, int x, int y) {
+    return (size_t)f * L->fsz + (size_t)(y + 1) * (size_t)L->st + (size_t)(x + 1);
+}
+
+static pg_synth_view face_view(const level *L, int f) {
+    size_t o = at(L, f, 0, 0);
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, L->r, L->r, f, 0, 0};
+    return v;
+}
+
+/* The face borders: for each border texel its source (a texel of a neighbouring face)
+ * and the orientation from this face's frame into the source's. */
+typedef struct border_map {
+    size_t n, *dst, *src;
+    uint8_t *orient; /* 6 * fsz, zero inside */
+} border_map;
+
+static pg_status border_build(const level *L, int tiles, int ts, border_map *b, uint8_t *orient,
+                              pg_error *err) {
+    pg_cube_grid g;
+    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, tiles, ts, err);
+    if (st) return st;
+    const int r = L->r;
+    b->n = 0;
+    b->orient = orient;
+    memset(orient, 0, 6 * L->fsz);
+    for (int f = 0; f < 6; f++)
+        for (int y = -1; y <= r; y++)
+            for (int x = -1; x <= r; x++) {
+                if (x >= 0 && x < r && y >= 0 && y < r) continue;
+                int rot;
+                int64_t id = pg_cube_wrap(&g, f, x, y, &rot);
+                int64_t per = (int64_t)r * r;
+                int sf = (int)(id / per), sy = (int)(id % per / r), sx = (int)(id % r);
+                b->dst[b->n] = at(L, f, x, y);
+                b->src[b->n++] = at(L, sf, sx, sy);
+                orient[at(L, f, x, y)] = (uint8_t)((4 - rot) & 3);
+            }
+    return PG_OK;
+}
+
+static void border_refresh(const border_map *b, level *L) {
+    for (size_t i = 0; i < b->n; i++) {
+        L->S[b->dst[i]] = L->S[b->src[i]];
+        L->V[b->dst[i]] = L->V[b->src[i]];
+    }
+}
+
+/* ------------------------------------ context ------------------------------------ */
+
+typedef struct ctx {
+    const pg_synth_exemplar *ex;
+    const pg_planet_synth_params *p;
+    int T, S, s_top;
+    int64_t N;
+    border_map bm;
+    /* types */
+    bool use_types;
+    uint8_t *etype; /* exemplar texel types */
+    uint32_t *valid[PG_TYPE_COUNT];
+    size_t nvalid[PG_TYPE_COUNT];
+    uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
+    /* guide */
+    float *guide; /* per level texel, metres */
+    pg_planet_synth_info *info;
+    double work_done, work_total;
+} ctx;
+
+static uint8_t mask_at(const ctx *c, int r, int f, long x, long y) {
+    if (!c->mask) return c->p->type_mask;
+    return c->mask[((size_t)f * r + (size_t)y) * r + (size_t)x];
+}
+
+static bool allowed(const ctx *c, uint8_t m, uint32_t q) {
+    return (m >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
+}
+
+/* A hashed draw among the exemplar texels whose type m allows. */
+static uint32_t draw_valid(const ctx *c, uint8_t m, uint32_t h) {
+    size_t total = 0;
+    for (int t = 0; t < PG_TYPE_COUNT; t++)
+        if ((m >> t) & 1) total += c->nvalid[t];
+    if (!total) return 0;
+    size_t k = (size_t)h % total;
+    for (int t = 0; t < PG_TYPE_COUNT; t++) {
+        if (!((m >> t) & 1)) continue;
+        if (k < c->nvalid[t]) return c->valid[t][k];
+        k -= c->nvalid[t];
+    }
+    return 0;
+}
+
+/* Gain et al.'s type constraint, applied to the texels of one parity class of a view
+ * after their correction: a disallowed texel takes the first allowed coherent
+ * candidate S[p+e] - h e (neighbours in a hashed order), else a valid draw. */
+static void types_fixup(const ctx *c, int scale, int parity, pg_synth_view *v) {
+    static const int nb[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
+                                 {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+    const int h = 1 << scale, r = (int)(c->N >> scale), px = parity & 1, py = parity >> 1;
+    for (int y = 0; y < v->h; y++) {
+        long gy = v->gy + y;
+        if ((int)(gy & 1) != py) continue;
+        for (int x = (int)((v->gx & 1) != px); x < v->w; x += 2) {
+            long gx = v->gx + x;
+            ptrdiff_t i = (ptrdiff_t)y * v->stride + x;
+            uint8_t m = mask_at(c, r, v->face, gx, gy);
+            if (allowed(c, m, v->S[i])) continue;
+            uint32_t hs = pg_synth_hash(c->p->synth.seed, scale, v->face, gx, gy, 11);
+            bool done = false;
+            for (int k = 0; k < 8 && !done; k++) {
+                int ex = nb[(hs + k) & 7][0], ey = nb[(hs + k) & 7][1], ox = -ex, oy = -ey;
+                ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
+                if (v->orient && v->orient[j]) pg_synth_orient_apply(v->orient[j], &ox, &oy);
+                uint32_t q = pg_synth_offset(c->ex, v->S[j], h * ox, h * oy);
+                if (allowed(c, m, q)) {
+                    v->S[i] = q;
+                    v->V[i] = v->V[j];
+                    done = true;
+                }
+            }
+            if (!done) {
+                v->S[i] =
+                    draw_valid(c, m, pg_synth_hash(c->p->synth.seed, scale, v->face, gx, gy, 12));
+                v->V[i] = 0;
+            }
+        }
+    }
+}
+
+/* --------------------------------- initialisation --------------------------------- */
+
+static uint32_t exemplar_at_direction(const pg_synth_exemplar *ex, int r, int f, int x, int y) {
+    const int E = ex->face_size;
+    int u = (int)(((int64_t)2 * x + 1) * E / (2 * r)),
+        v = (int)(((int64_t)2 * y + 1) * E / (2 * r));
+    return pg_synth_pack(f, u, v);
+}
+
+/* Coarsest level: the exemplar at the same direction (layout earth), else hashed
+ * random texels; with a guide, the best of 16 hashed draws by level height. */
+static void init_top(ctx *c, level *L) {
+    const pg_synth_exemplar *ex = c->ex;
+    const int r = L->r, s = c->s_top, E = ex->face_size;
+    const uint64_t seed = c->p->synth.seed;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            uint32_t q;
+            if (c->p->layout == PG_LAYOUT_EARTH) {
+                q = exemplar_at_direction(ex, r, f, x, y);
+            } else {
+                int ndraw = c->guide ? 16 : 1;
+                float g = c->guide ? c->guide[((size_t)f * r + y) * r + x] : 0, best = INFINITY;
+                q = 0;
+                for (int k = 0; k < ndraw; k++) {
+                    uint32_t a = pg_synth_hash(seed, 99, f, x, y, 7 + 2 * k);
+                    uint32_t b = pg_synth_hash(seed, 99, f, x, y, 8 + 2 * k);
+                    uint32_t cand = pg_synth_pack((int)(a % 6u), (int)((a >> 3) % (uint32_t)E),
+                                                  (int)(b % (uint32_t)E));
+                    float d = fabsf(pg_synth_level_height(ex, s, cand) - g);
+                    if (k == 0 || d < best) best = d, q = cand;
+                }
+            }
+            L->S[at(L, f, x, y)] = q;
+            L->V[at(L, f, x, y)] = 0;
+        }
+    }
+}
+
+/* ------------------------------------ one level ------------------------------------ */
+
+/* TEST ONLY: correct one tile in a private copy whose halo continues its own edge
+ * (as the flat driver does), i.e. without its neighbours. */
+static void correct_tile_alone(const ctx *c, int scale, int parity, const pg_synth_view *v) {
+    const int w = v->w, hgt = v->h, st = w + 2, h = 1 << scale;
+    uint32_t *S = malloc(sizeof *S * (size_t)st * (hgt + 2));
+    float *V = malloc(sizeof *V * (size_t)st * (hgt + 2));
+    if (!S || !V) {
+        free(S), free(V);
+        return;
+    }
+    for (int y = -1; y <= hgt; y++)
+        for (int x = -1; x <= w; x++) {
+            int cx = x < 0 ? 0 : (x >= w ? w - 1 : x), cy = y < 0 ? 0 : (y >= hgt ? hgt - 1 : y);
+            ptrdiff_t src = (ptrdiff_t)cy * v->stride + cx, dst = (ptrdiff_t)(y + 1) * st + x + 1;
+            S[dst] = pg_synth_offset(c->ex, v->S[src], h * (x - cx), h * (y - cy));
+            V[dst] = v->V[src];
+        }
+    pg_synth_view t = {S + st + 1, V + st + 1, NULL, st, w, hgt, v->face, v->gx, v->gy};
+    pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, &t);
+    for (int y = 0; y < hgt; y++)
+        for (int x = 0; x < w; x++) {
+            v->S[(ptrdiff_t)y * v->stride + x] = t.S[(ptrdiff_t)y * st + x];
+            v->V[(ptrdiff_t)y * v->stride + x] = t.V[(ptrdiff_t)y * st + x];
+        }
+    free(S);
+    free(V);
+}
+
+static void correct_subpass_all(ctx *c, int scale, int parity, level *L) {
+    const int ts = c->S >> scale, T = c->T;
+    const int ntiles = 6 * T * T;
+    border_refresh(&c->bm, L);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int t = 0; t < ntiles; t++) {
+        int f = t / (T * T), tx = t % T, ty = t / T % T;
+        size_t o = at(L, f, tx * ts, ty * ts);
+        pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st,        ts,
+                           ts,       f,        (long)tx * ts,    (long)ty * ts};
+        if (c->p->independent_tiles)
+            correct_tile_alone(c, scale, parity, &v);
+        else
+            pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, &v);
+        if (c->use_types) types_fixup(c, scale, parity, &v);
+    }
+}
+
+/* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. */
+static void reconstruct(const ctx *c, int scale, const level *L, float *R, float *Vc) {
+    const int r = L->r;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            size_t i = at(L, f, x, y), j = ((size_t)f * r + y) * r + x;
+            R[j] = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
+            if (Vc) Vc[j] = L->V[i];
+        }
+    }
+}
+
+static void store_offsets(const float *Vc, level *L) {
+    const int r = L->r;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++)
+            L->V[at(L, f, x, y)] = Vc[((size_t)f * r + y) * r + x];
+    }
+}
+
+static pg_pits_opts pits_opts(const ctx *c, pg_pits_method m) {
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.method = m;
+    o.epsilon = true;
+    o.has_sea_level = true;
+    o.sea_level = c->ex->sea_level;
+    return o;
+}
+
+/* After a correction pass: the guide blend R <- w G + (1 - w) R (as V += w (G - R)),
+ * then Gain-pit (R' pit-free, V += R' - R). */
+static pg_status after_pass(ctx *c, int scale, level *L, pg_error *err) {
+    bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
+    if (!pits && !c->guide) return PG_OK;
+    const int r = L->r;
+    size_t n = (size_t)6 * r * r;
+    float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
+    if (!R || !Vc) {
+        free(R), free(Vc);
+        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+    }
+    reconstruct(c, scale, L, R, Vc);
+    pg_status st = PG_OK;
+    if (c->guide) {
+        float w = (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            float d = w * (c->guide[i] - R[i]);
+            Vc[i] += d;
+            R[i] += d;
+        }
+    }
+    if (pits) {
+        double t0 = pg_synth_now();
+        pg_pits_topo topo;
+        pg_pits_opts o = pits_opts(c, c->p->pit_method);
+        pg_pits_result res;
+        st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
+        if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
+        if (!st) c->info->pit_cells_changed += res.raised + res.lowered;
+        c->info->pits_seconds += pg_synth_now() - t0;
+    }
+    if (!st) store_offsets(Vc, L);
+    free(R);
+    free(Vc);
+    return st;
+}
+
+static void land_agreement(ctx *c, int scale, const level *L) {
+    const int r = L->r;
+    uint64_t agree = 0;
+#pragma omp parallel for schedule(static) reduction(+ : agree)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            size_t i = at(L, f, x, y);
+            float h = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
+            float he =
+                pg_synth_level_height(c->ex, scale, exemplar_at_direction(c->ex, r, f, x, y));
+            agree += (h > c->ex->sea_level) == (he > c->ex->sea_level);
+        }
+    }
+    c->info->land_agreement = (double)agree / (6.0 * r * r);
+}
+
+static void progress(ctx *c, double units) {
+    c->work_done += units;
+    if (c->p->progress) c->p->progress(c->p->progress_user, c->work_done / c->work_total);
+}
+
+static pg_status run_level(ctx *c, int scale, level *L, pg_error *err) {
+    const pg_planet_synth_params *p = c->p;
+    double units = (double)L->r * L->r / ((double)c->N * c->N);
+    for (int pass = 0; pass < p->synth.passes; pass++) {
+        for (int sp = 0; sp < 4; sp++)
+            correct_subpass_all(c, scale, pg_synth_subpass_order[sp], L);
+        pg_status st = after_pass(c, scale, L, err);
+        if (st) return st;
+        progress(c, units / p->synth.passes);
+    }
+    if (p->layout == PG_LAYOUT_EARTH && p->keep_levels > 0 &&
+        scale == c->s_top - p->keep_levels + 1)
+        land_agreement(c, scale, L);
+    return PG_OK;
+}
+
+/* ------------------------------------- setup ------------------------------------- */
+
+static pg_status types_setup(ctx *c, pg_error *err) {
+    c->use_types = c->p->types || c->p->type_mask != PG_TYPES_ALL;
+    if (!c->use_types) return PG_OK;
+    const pg_synth_exemplar *ex = c->ex;
+    c->etype = pg_types_exemplar(ex);
+    if (!c->etype) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+    size_t ne = (size_t)ex->nfaces * ex->face_size * ex->face_size;
+    for (size_t i = 0; i < ne; i++)
+        c->nvalid[c->etype[i]]++;
+    for (int t = 0; t < PG_TYPE_COUNT; t++) {
+        c->valid[t] = malloc((c->nvalid[t] + 1) * sizeof(uint32_t));
+        if (!c->valid[t]) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+        c->nvalid[t] = 0;
+    }
+    const int E = ex->face_size;
+    for (size_t i = 0; i < ne; i++) {
+        int t = c->etype[i];
+        c->valid[t][c->nvalid[t]++] =
+            pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
+    }
+    /* every mask in use must leave valid texels */
+    uint8_t masks = 0;
+    for (int t = 0; t < PG_TYPE_COUNT; t++)
+        if (c->nvalid[t]) masks |= (uint8_t)(1u << t);
+    if (!(c->p->type_mask & masks))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--preset: no exemplar texel has an allowed type");
+    if (c->p->types) {
+        const pg_types_map *m = c->p->types;
+        for (size_t i = 0; i < (size_t)m->width * m->height; i++)
+            if (!(m->mask[i] & masks)) {
+                char names[128] = "";
+                for (int t = 0; t < PG_TYPE_COUNT; t++)
+                    if ((m->mask[i] >> t) & 1) {
+                        strncat(names, names[0] ? ", " : "", sizeof names - strlen(names) - 1);
+                        strncat(names, pg_types_name(t), sizeof names - strlen(names) - 1);
+                    }
+                return pg_error_set(err, PG_ERR_BADINPUT,
+                                    "--types: the exemplar has no texel of type %s", names);
+            }
+    }
+    return PG_OK;
+}
+
+static double sphere_lat(const double d[3]) {
+    double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return asin(d[2] / n) * (180.0 / 3.14159265358979323846);
+}
+
+/* Nearest-pixel type mask of every texel of a level (type colours are discrete). */
+static pg_status types_level(ctx *c, int r, int ts, pg_error *err) {
+    if (!c->p->types) return PG_OK;
+    const pg_types_map *m = c->p->types;
+    pg_cube_grid g;
+    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, c->T, ts, err);
+    if (st) return st;
+#pragma omp parallel for schedule(static)
+    for (int64_t id = 0; id < (int64_t)6 * r * r; id++) {
+        double d[3];
+        pg_cube_texel_dir(&g, id, d);
+        double lat = sphere_lat(d), lon = atan2(d[1], d[0]) * (180.0 / 3.14159265358979323846);
+        int i = (int)floor((lon + 180.0) / 360.0 * m->width),
+            j = (int)floor((90.0 - lat) / 180.0 * m->height);
+        i = i < 0 ? 0 : (i >= m->width ? m->width - 1 : i);
+        j = j < 0 ? 0 : (j >= m->height ? m->height - 1 : j);
+        c->mask[id] = m->mask[(size_t)j * m->width + i];
+    }
+    return PG_OK;
+}
+
+static pg_status guide_level(ctx *c, int r, pg_error *err) {
+    if (!c->p->guide) return PG_OK;
+    const pg_guide *g = c->p->guide;
+    int samples = (int)ceil((double)g->width / (4.0 * r));
+    if (samples < 1) samples = 1;
+    if (samples > 8) samples = 8;
+    return pg_cube_from_equirect(PG_CUBE_DEFAULT_PROJECTION, r, NULL, g->metres, g->width,
+                                 g->height, 1, samples, c->guide, err);
+}
+
+static void ctx_free(ctx *c) {
+    free(c->bm.dst);
+    free(c->bm.src);
+    free(c->bm.orient);
+    free(c->etype);
+    for (int t = 0; t < PG_TYPE_COUNT; t++)
+        free(c->valid[t]);
+    free(c->mask);
+    free(c->guide);
+}
+
+static pg_status level_alloc(level *L, int r) {
+    L->r = r;
+    L->st = r + 2;
+    L->fsz = (size_t)(r + 2) * (r + 2);
+    L->S = malloc(6 * L->fsz * sizeof *L->S);
+    L->V = malloc(6 * L->fsz * sizeof *L->V);
+    return L->S && L->V ? PG_OK : PG_ERR_NOMEM;
+}
+
+static void level_free(level *L) {
+    free(L->S);
+    free(L->V);
+    L->S = NULL;
+    L->V = NULL;
+}
+
+static pg_status ctx_init(ctx *c, const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                          pg_planet_synth_info *info, pg_error *err) {
+    memset(c, 0, sizeof *c);
+    c->ex = ex;
+    c->p = p;
+    c->T = p->tiles;
+    c->S = p->tile_size;
+    c->N = (int64_t)p->tiles * p->tile_size;
+    c->s_top = top_scale(ex);
+    c->info = info;
+    size_t nb = (size_t)6 * 4 * (c->N + 2), full = (size_t)6 * (c->N + 2) * (c->N + 2);
+    c->bm.dst = malloc(nb * sizeof(size_t));
+    c->bm.src = malloc(nb * sizeof(size_t));
+    c->bm.orient = malloc(full);
+    size_t px = (size_t)6 * c->N * c->N;
+    if (p->types) c->mask = malloc(px);
+    if (p->guide) c->guide = malloc(px * sizeof(float));
+    if (!c->bm.dst || !c->bm.src || !c->bm.orient || (p->types && !c->mask) ||
+        (p->guide && !c->guide))
+        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
+    for (int s = 0; s <= c->s_top; s++)
+        c->work_total += 1.0 / ((double)(1 << s) * (1 << s));
+    return types_setup(c, err);
+}
+
+static pg_status prepare_level(ctx *c, int scale, level *L, pg_error *err) {
+    int ts = c->S >> scale;
+    pg_status st = border_build(L, c->T, ts, &c->bm, c->bm.orient, err);
+    if (!st) st = types_level(c, L->r, ts, err);
+    if (!st) st = guide_level(c, L->r, err);
+    return st;
+}
+
+static double jitter_for(const ctx *c, int scale) {
+    if (c->p->layout == PG_LAYOUT_EARTH && scale > c->s_top - c->p->keep_levels) return 0;
+    return pg_synth_jitter_for(&c->p->synth, scale);
+}
+
+static void jitter_level(const ctx *c, int scale, level *L) {
+    double r = jitter_for(c, scale);
+    for (int f = 0; f < 6; f++) {
+        pg_synth_view v = face_view(L, f);
+        pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+    }
+}
+
+/* The pyramid: the coarsest level, then upsample / jitter / correct down to scale 0.
+ * On success *out holds the finest level. */
+static pg_status synthesize(ctx *c, level *out, pg_error *err) {
+    level cur = {0}, nxt = {0};
+    const int r_top = (int)(c->N >> c->s_top);
+    if (level_alloc(&cur, r_top))
+        return level_free(&cur), pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
+    pg_status st = prepare_level(c, c->s_top, &cur, err);
+    double t0 = pg_synth_now();
+    if (!st) {
+        init_top(c, &cur);
+        jitter_level(c, c->s_top, &cur);
+        st = run_level(c, c->s_top, &cur, err);
+    }
+    c->info->level_seconds[c->info->nlevels++] = pg_synth_now() - t0;
+    for (int s = c->s_top - 1; s >= 0 && !st; s--) {
+        t0 = pg_synth_now();
+        if (level_alloc(&nxt, cur.r * 2)) {
+            st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory at %d^2",
+                              cur.r * 2);
+            break;
+        }
+        for (int f = 0; f < 6; f++) {
+            pg_synth_view pv = face_view(&cur, f), cv = face_view(&nxt, f);
+            pg_synth_upsample(c->ex, s, &pv, &cv);
+        }
+        level_free(&cur);
+        cur = nxt;
+        nxt = (level){0};
+        st = prepare_level(c, s, &cur, err);
+        if (!st) {
+            jitter_level(c, s, &cur);
+            st = run_level(c, s, &cur, err);
+        }
+        c->info->level_seconds[c->info->nlevels++] = pg_synth_now() - t0;
+    }
+    level_free(&nxt);
+    if (st) {
+        level_free(&cur);
+        return st;
+    }
+    *out = cur;
+    return PG_OK;
+}
+
+/* ------------------------------------ delivery ------------------------------------ */
+
+static void finest_heights(const ctx *c, const level *L, float *H) {
+    const int r = L->r;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            size_t i = at(L, f, x, y);
+            H[((size_t)f * r + y) * r + x] =
+                c->ex->height[pg_synth_texel(c->ex, L->S[i])] + L->V[i];
+        }
+    }
+}
+
+static pg_status final_pits(ctx *c, float *H, pg_error *err) {
+    const pg_planet_synth_params *p = c->p;
+    pg_pits_topo topo;
+    pg_status st = pg_pits_topo_cube(&topo, (uint32_t)c->N, err);
+    if (st) return st;
+    pg_pits_opts o = pits_opts(c, p->final_method);
+    pg_pits_area area = {0};
+    area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
+                    (6.0 * (double)c->N * (double)c->N);
+    if (p->pit_stats) st = pg_pits_stats_compute(&topo, H, &o, &area, &c->info->before, err);
+    double t0 = pg_synth_now();
+    if (!st && p->pits && p->final_pits) st = pg_pits_remove(&topo, H, &o, NULL, err);
+    c->info->final_pits_seconds = pg_synth_now() - t0;
+    if (!st && p->pit_stats) st = pg_pits_stats_compute(&topo, H, &o, &area, &c->info->after, err);
+    return st;
+}
+
+static void render(const ctx *c, const level *L, const float *H, pg_planet *out, uint32_t *coords) {
+    const int r = L->r;
+    uint64_t ok = 0;
+#pragma omp parallel for schedule(static) reduction(+ : ok)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            uint32_t q = L->S[at(L, f, x, y)];
+            size_t t = pg_synth_texel(c->ex, q), j = (size_t)y * r + x;
+            for (int k = 0; k < 3; k++)
+                out->albedo[f][j * 3 + k] = c->ex->albedo[t * 3 + k] * (1.0f / 255.0f);
+            out->height[f][j] = H[(size_t)f * r * r + j];
+            if (coords) coords[(size_t)f * r * r + j] = q;
+            if (c->use_types) ok += (mask_at(c, r, f, x, y) >> c->etype[t]) & 1;
+        }
+    }
+    c->info->allowed_fraction = c->use_types ? (double)ok / (6.0 * r * r) : 1.0;
+}
+
+pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                              pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
+                              pg_error *err) {
+    pg_planet_synth_info local;
+    if (!info) info = &local;
+    memset(info, 0, sizeof *info);
+    info->land_agreement = NAN;
+    memset(out, 0, sizeof *out);
+    if (coords_out) *coords_out = NULL;
+    pg_status st = pg_planet_synth_check(ex, p, err);
+    if (st) return st;
+    info->peak_bytes_estimate = pg_planet_synth_bytes(p->tiles, p->tile_size, p);
+    info->s_top = top_scale(ex);
+    ctx c;
+    st = ctx_init(&c, ex, p, info, err);
+    level L = {0};
+    double t0 = pg_synth_now();
+    if (!st) st = synthesize(&c, &L, err);
+    info->synth_seconds = pg_synth_now() - t0;
+    size_t px = (size_t)6 * c.N * c.N;
+    float *H = NULL;
+    if (!st) {
+        float *tmpV = NULL;
+        H = malloc(px * sizeof *H);
+        if (!H) st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
+        (void)tmpV;
+    }
+    if (!st) {
+        finest_heights(&c, &L, H);
+        free(L.V); /* S stays for the albedo */
+        L.V = NULL;
+        st = final_pits(&c, H, err);
+    }
+    t0 = pg_synth_now();
+    if (!st)
+        st = pg_planet_alloc(out, PG_CUBE_DEFAULT_PROJECTION, p->tiles, p->tile_size,
+                             pg_ellipsoid_sphere(), err);
+    if (!st && coords_out && !(*coords_out = malloc(px * sizeof(uint32_t))))
+        st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (coords)");
+    if (!st) {
+        out->seed = p->synth.seed;
+        out->sea_level = ex->sea_level;
+        render(&c, &L, H, out, coords_out ? *coords_out : NULL);
+    }
+    info->render_seconds = pg_synth_now() - t0;
+    free(H);
+    level_free(&L);
+    ctx_free(&c);
+    if (st) {
+        pg_planet_free(out);
+        if (coords_out) free(*coords_out), *coords_out = NULL;
+    }
+    return st;
+}
