@@ -16,7 +16,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#define CACHE_MAGIC "PGSYNTH\x03"
+#define CACHE_MAGIC "PGSYNTH\x04"
 
 /* FNV-1a over 8-byte words with a final avalanche; fast enough for ~60 MB inputs. */
 uint64_t pg_synth_hash_bytes(uint64_t h, const void *data, size_t n) {
@@ -105,6 +105,7 @@ typedef struct cache_header {
 typedef struct cache_scalars {
     float sea_level, metres_to_app, lab_height_scale, height_min, height_max;
     float app_scale[PG_SYNTH_MAX_LEVELS];
+    double cold_seconds;
 } cache_scalars;
 
 static int io_arrays(pg_synth_exemplar *ex, FILE *f, int writing) {
@@ -153,6 +154,7 @@ pg_status pg_synth_cache_load(const char *path, uint64_t key, pg_synth_exemplar 
         ex->lab_height_scale = sc.lab_height_scale;
         ex->height_min = sc.height_min;
         ex->height_max = sc.height_max;
+        ex->cold_seconds = sc.cold_seconds;
         memcpy(ex->app_scale, sc.app_scale, sizeof sc.app_scale);
         if (io_arrays(ex, f, 0) != 0) {
             pg_synth_exemplar_free(ex);
@@ -175,8 +177,9 @@ pg_status pg_synth_cache_save(const char *path, const pg_synth_exemplar *ex, pg_
     h.key = ex->key;
     h.nfaces = ex->nfaces, h.size = ex->face_size, h.levels = ex->levels, h.dims = ex->dims,
     h.k = ex->k, h.torus = ex->torus;
-    cache_scalars sc = {ex->sea_level,  ex->metres_to_app, ex->lab_height_scale,
-                        ex->height_min, ex->height_max,    {0}};
+    cache_scalars sc = {ex->sea_level,   ex->metres_to_app, ex->lab_height_scale,
+                        ex->height_min,  ex->height_max,    {0},
+                        ex->cold_seconds};
     memcpy(sc.app_scale, ex->app_scale, sizeof sc.app_scale);
     int bad = fwrite(&h, sizeof h, 1, f) != 1 || fwrite(&sc, sizeof sc, 1, f) != 1 ||
               io_arrays((pg_synth_exemplar *)ex, f, 1) != 0;

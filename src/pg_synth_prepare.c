@@ -195,6 +195,7 @@ static pg_status prepare(const float *albedo, const float *height, int w, int h,
         return st;
     }
     double tw = pg_synth_now();
+    ex->cold_seconds = tw - t0;
     if (dir[0]) {
         pg_error werr = {0};
         if (mkdir_p(dir, &werr) != PG_OK || pg_synth_cache_save(info->cache_path, ex, &werr))

@@ -81,8 +81,9 @@ typedef struct pg_synth_exemplar {
     float pca_mean[PG_SYNTH_MAX_LEVELS][100];
     float lab_height_scale; /* height channel = metres * this (before Gaussian weights) */
     float height_min, height_max;
-    uint64_t key;      /* cache key */
-    pg_cube_grid grid; /* 1 tile of E per face: wraps coordinates across exemplar seams */
+    uint64_t key;        /* cache key */
+    double cold_seconds; /* wall time the (uncached) preparation took, kept in the cache */
+    pg_cube_grid grid;   /* 1 tile of E per face: wraps coordinates across exemplar seams */
 } pg_synth_exemplar;
 
 typedef struct pg_synth_prep_info {

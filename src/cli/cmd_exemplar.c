@@ -17,6 +17,7 @@ typedef struct exemplar_args {
     const char *albedo, *height, *outdir;
     double height_scale, height_offset, sea_level, max_mpx;
     long grid_width;
+    bool prepare; /* also prepare the synthesis exemplar and time it (cmd_synth.c) */
 } exemplar_args;
 
 static void report_json(pg_cli *cli, const exemplar_args *a, const pg_exemplar *ex,
@@ -93,7 +94,7 @@ static pg_status write_previews(pg_cli *cli, const char *dir, const pg_exemplar 
 }
 
 int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
-    exemplar_args a = {NULL, NULL, "out", NAN, NAN, NAN, 0, 0};
+    exemplar_args a = {NULL, NULL, "out", NAN, NAN, NAN, 0, 0, false};
     const pg_opt opts[] = {
         {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
          "global equirectangular albedo (default: Blue Marble from marble-qt-data)"},
@@ -111,6 +112,8 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
          "refuse input images above this many megapixels (default 2147)"},
         {"--grid-width", NULL, PG_OPT_INT, &a.grid_width, 16, 86400, NULL, "W",
          "common grid width, height W/2 (default: the coarser input's)"},
+        {"--prepare", NULL, PG_OPT_FLAG, &a.prepare, 0, 0, NULL, NULL,
+         "prepare the synthesis exemplar cube; report cold and cached times"},
         PG_OPT_END};
     const char *pos[1];
     int npos;
@@ -152,6 +155,7 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
     }
     pg_cli_stage_end(cli);
     print_summary(cli, &ex, &s);
+    if (a.prepare) pg_synth_cli_report_prep(cli, &ex);
     report_json(cli, &a, &ex, &s);
     pg_exemplar_free(&ex);
     return pg_cli_finish(cli);
