@@ -304,21 +304,62 @@ static void correct_tile_alone(const ctx *c, int scale, int parity, const pg_syn
     free(V);
 }
 
+static bool polar(int f) {
+    return f == PG_CUBE_FACE_PZ || f == PG_CUBE_FACE_NZ;
+}
+
+static void correct_view(const ctx *c, int scale, int parity, pg_synth_view *v) {
+    if (v->w <= 0 || v->h <= 0) return;
+    if (c->p->independent_tiles)
+        correct_tile_alone(c, scale, parity, v);
+    else
+        pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, v);
+    if (c->use_types) types_fixup(c, scale, parity, v);
+}
+
+/* The rectangle [x0, x1) x [y0, y1) of face f as a view. */
+static pg_synth_view rect_view(const ctx *c, const level *L, int f, int x0, int y0, int x1,
+                               int y1) {
+    size_t o = at(L, f, x0, y0);
+    pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st, x1 - x0, y1 - y0, f, x0, y0};
+    return v;
+}
+
+/* One sub-pass over the planet, in two steps. Across a seam with a quarter turn (the
+ * 8 seams of the polar faces) the 2 x 2 parity classes of the two faces do not
+ * interleave: half the pairs straddling such a seam are in the same class, and if both
+ * sides were corrected at once, each from the other's old value, they could never
+ * become coherent. So step 1 corrects every tile except the outermost ring of the
+ * polar faces, and step 2, after refreshing the borders, corrects that ring against
+ * the new values on the other side. Both steps are order-independent, and the split
+ * is fixed by the faces, not the tiles. */
 static void correct_subpass_all(ctx *c, int scale, int parity, level *L) {
-    const int ts = c->S >> scale, T = c->T;
+    const int ts = c->S >> scale, T = c->T, r = L->r;
     const int ntiles = 6 * T * T;
+    const bool split = !c->p->independent_tiles && r > 2;
     border_refresh(&c->bm, L);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < ntiles; t++) {
         int f = t / (T * T), tx = t % T, ty = t / T % T;
-        size_t o = at(L, f, tx * ts, ty * ts);
-        pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st,        ts,
-                           ts,       f,        (long)tx * ts,    (long)ty * ts};
-        if (c->p->independent_tiles)
-            correct_tile_alone(c, scale, parity, &v);
-        else
-            pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, &v);
-        if (c->use_types) types_fixup(c, scale, parity, &v);
+        int x0 = tx * ts, y0 = ty * ts, x1 = x0 + ts, y1 = y0 + ts;
+        if (split && polar(f)) {
+            x0 = x0 < 1 ? 1 : x0, y0 = y0 < 1 ? 1 : y0;
+            x1 = x1 > r - 1 ? r - 1 : x1, y1 = y1 > r - 1 ? r - 1 : y1;
+        }
+        pg_synth_view v = rect_view(c, L, f, x0, y0, x1, y1);
+        correct_view(c, scale, parity, &v);
+    }
+    if (!split) return;
+    border_refresh(&c->bm, L);
+    /* the rings of the two polar faces: 4 strips each (bottom, top, left, right) */
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < 8; k++) {
+        int f = k < 4 ? PG_CUBE_FACE_PZ : PG_CUBE_FACE_NZ, side = k & 3;
+        pg_synth_view v = side == 0   ? rect_view(c, L, f, 0, 0, r, 1)
+                          : side == 1 ? rect_view(c, L, f, 0, r - 1, r, r)
+                          : side == 2 ? rect_view(c, L, f, 0, 1, 1, r - 1)
+                                      : rect_view(c, L, f, r - 1, 1, r, r - 1);
+        correct_view(c, scale, parity, &v);
     }
 }
 

@@ -1,0 +1,254 @@
+/* test_generate.c - whole-planet synthesis (issue 5) on the real default exemplar:
+ *
+ *  - seams are invisible: over all tile edges and the 12 face seams, the mean |delta
+ *    height| and |delta albedo| of texel pairs straddling a seam are <= 1.1 x the same
+ *    for adjacent interior pairs, and the coherent-pair rate across seams (S[q] moved
+ *    back by the step, rotated into q's frame, is S[p]) is >= 0.8 x the interior rate;
+ *  - the same check fails when tiles are synthesized independently, without halos;
+ *  - bit-identical output across tilings (S = 64, 128, 256 with matching T) and thread
+ *    counts (1 vs 2);
+ *  - layout earth keeps the exemplar's land/ocean mask at >= 90% of texels at the
+ *    coarsest kept level; the snow preset yields >= 95% texels of allowed types;
+ *  - after the final pit pass the planet has no depressions.
+ * Planets are 6 x 256^2 (N = 256) to keep the test short; the properties do not depend
+ * on the size. The seam statistic is computed here (pairs classified by the tile grid,
+ * face seams crossed with pg_cube_wrap), independently of the driver. */
+#include "pg_test.h"
+
+#include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_planet_synth.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static pg_synth_exemplar *ex;
+
+static int setup(void **state) {
+    (void)state;
+    pg_exemplar_opts eo;
+    pg_exemplar_opts_default(&eo);
+    pg_exemplar src;
+    pg_error err = {0};
+    if (pg_exemplar_load(&eo, &src, &err) != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s/synth-cache", getenv("PG_BUILD_DIR"));
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    pg_synth_prep_info info;
+    pg_status st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height,
+                                             src.sea_level, &ep, dir, &ex, &info, &err);
+    pg_exemplar_free(&src);
+    if (st) fprintf(stderr, "%s\n", err.msg);
+    return st ? -1 : 0;
+}
+
+static int teardown(void **state) {
+    (void)state;
+    pg_synth_exemplar_free(ex);
+    return 0;
+}
+
+typedef struct run {
+    pg_planet p;
+    uint32_t *coords;
+    pg_planet_synth_info info;
+} run;
+
+static void synth(int T, int S, pg_planet_layout layout, bool independent, const char *preset,
+                  run *r) {
+    pg_planet_synth_params p;
+    pg_planet_synth_params_default(&p);
+    p.tiles = T;
+    p.tile_size = S;
+    p.layout = layout;
+    p.independent_tiles = independent;
+    pg_error err = {0};
+    if (preset) assert_int_equal(pg_types_preset(preset, &p.type_mask, &err), PG_OK);
+    pg_status st = pg_planet_synth_run(ex, &p, &r->p, &r->coords, &r->info, &err);
+    if (st) fail_msg("%s", err.msg);
+}
+
+static void run_free(run *r) {
+    pg_planet_free(&r->p);
+    free(r->coords);
+}
+
+/* ---- the seam statistic ---- */
+
+typedef struct acc {
+    double dh, da;
+    uint64_t coherent, n;
+} acc;
+
+typedef struct seams {
+    acc seam, inner, face; /* face: the face seams alone (also counted in seam) */
+} seams;
+
+static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
+                     const pg_cube_grid *g, acc *a) {
+    const int64_t n = g->n;
+    int rot;
+    int64_t q = pg_cube_wrap(g, f, x + dx, y + dy, &rot);
+    int qf = (int)(q / (n * n));
+    int64_t qi = q % (n * n), pi = y * n + x;
+    a->dh += fabs((double)r->p.height[f][pi] - r->p.height[qf][qi]);
+    double da = 0;
+    for (int k = 0; k < 3; k++)
+        da += fabs((double)r->p.albedo[f][pi * 3 + k] - r->p.albedo[qf][qi * 3 + k]);
+    a->da += da / 3;
+    /* coherent: q's coordinate moved back by the step, in q's frame, is p's */
+    int bx = -dx, by = -dy;
+    pg_synth_orient_apply((4 - rot) & 3, &bx, &by);
+    uint32_t sp = r->coords[(size_t)f * n * n + pi], sq = r->coords[q];
+    a->coherent += pg_synth_offset(ex, sq, bx, by) == sp;
+    a->n++;
+}
+
+static seams seam_stats(const run *r) {
+    pg_cube_grid g;
+    pg_error err = {0};
+    assert_int_equal(
+        pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, r->p.tiles, r->p.tile_size, &err), PG_OK);
+    const int64_t n = g.n, S = g.tile_size;
+    seams s;
+    memset(&s, 0, sizeof s);
+    for (int f = 0; f < 6; f++)
+        for (int64_t y = 0; y < n; y++)
+            for (int64_t x = 0; x < n; x++) {
+                /* +x and +y pairs inside the face: tile edges or interior */
+                if (x + 1 < n) add_pair(r, f, x, y, 1, 0, &g, (x + 1) % S ? &s.inner : &s.seam);
+                if (y + 1 < n) add_pair(r, f, x, y, 0, 1, &g, (y + 1) % S ? &s.inner : &s.seam);
+                /* face seams: every face edge, outward (each seam pair counted twice) */
+                const int out[4][3] = {
+                    {x == n - 1, 1, 0}, {x == 0, -1, 0}, {y == n - 1, 0, 1}, {y == 0, 0, -1}};
+                for (int k = 0; k < 4; k++)
+                    if (out[k][0]) {
+                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.seam);
+                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.face);
+                    }
+            }
+    return s;
+}
+
+typedef struct ratios {
+    double h, a, coh;
+} ratios;
+
+static ratios seam_ratios(const run *r) {
+    seams s = seam_stats(r);
+    ratios q = {(s.seam.dh / s.seam.n) / (s.inner.dh / s.inner.n),
+                (s.seam.da / s.seam.n) / (s.inner.da / s.inner.n),
+                ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n)};
+    printf("  seam/interior: |dh| %.3f, |dalbedo| %.3f, coherent rate %.3f (interior rate "
+           "%.3f); face seams alone: |dh| %.3f, |dalbedo| %.3f, coherent %.3f\n",
+           q.h, q.a, q.coh, (double)s.inner.coherent / s.inner.n,
+           (s.face.dh / s.face.n) / (s.inner.dh / s.inner.n),
+           (s.face.da / s.face.n) / (s.inner.da / s.inner.n), (double)s.face.coherent / s.face.n);
+    return q;
+}
+
+static void test_seams_invisible(void **state) {
+    (void)state;
+    run r;
+    synth(4, 64, PG_LAYOUT_FREE, false, NULL, &r);
+    ratios q = seam_ratios(&r);
+    assert_true(q.h <= 1.1);
+    assert_true(q.a <= 1.1);
+    assert_true(q.coh >= 0.8);
+    run_free(&r);
+}
+
+static void test_independent_tiles_show_seams(void **state) {
+    (void)state;
+    run r;
+    synth(4, 64, PG_LAYOUT_FREE, true, NULL, &r);
+    ratios q = seam_ratios(&r);
+    assert_true(q.h > 1.1 || q.a > 1.1 || q.coh < 0.8);
+    run_free(&r);
+}
+
+static void assert_same(const run *a, const run *b) {
+    size_t nn = (size_t)a->p.n * a->p.n;
+    assert_memory_equal(a->coords, b->coords, 6 * nn * sizeof(uint32_t));
+    for (int f = 0; f < 6; f++) {
+        assert_memory_equal(a->p.height[f], b->p.height[f], nn * sizeof(float));
+        assert_memory_equal(a->p.albedo[f], b->p.albedo[f], 3 * nn * sizeof(float));
+    }
+}
+
+static void test_tilings_identical(void **state) {
+    (void)state;
+    run a, b, c;
+    synth(4, 64, PG_LAYOUT_FREE, false, NULL, &a);
+    synth(2, 128, PG_LAYOUT_FREE, false, NULL, &b);
+    synth(1, 256, PG_LAYOUT_FREE, false, NULL, &c);
+    assert_same(&a, &b);
+    assert_same(&a, &c);
+    run_free(&a);
+    run_free(&b);
+    run_free(&c);
+}
+
+static void test_threads_identical(void **state) {
+    (void)state;
+    int saved = omp_get_max_threads();
+    run a, b;
+    omp_set_num_threads(1);
+    synth(4, 64, PG_LAYOUT_EARTH, false, NULL, &a);
+    omp_set_num_threads(2);
+    synth(4, 64, PG_LAYOUT_EARTH, false, NULL, &b);
+    omp_set_num_threads(saved);
+    assert_same(&a, &b);
+    run_free(&a);
+    run_free(&b);
+}
+
+static void test_layout_earth_and_pits(void **state) {
+    (void)state;
+    run r;
+    synth(4, 64, PG_LAYOUT_EARTH, false, NULL, &r);
+    printf("  land/ocean agreement %.3f; depressions %llu before, %llu after the final pass\n",
+           r.info.land_agreement, (unsigned long long)r.info.before.depressions,
+           (unsigned long long)r.info.after.depressions);
+    assert_true(r.info.land_agreement >= 0.9);
+    assert_true(r.info.before.depressions > 0);    /* synthesis does leave pits ... */
+    assert_int_equal(r.info.after.depressions, 0); /* ... and the final pass removes them */
+    run_free(&r);
+}
+
+static void test_snow_preset(void **state) {
+    (void)state;
+    run r;
+    synth(4, 64, PG_LAYOUT_EARTH, false, "snow", &r);
+    uint8_t *et = pg_types_exemplar(ex);
+    uint8_t mask;
+    pg_error err = {0};
+    assert_int_equal(pg_types_preset("snow", &mask, &err), PG_OK);
+    size_t nn = (size_t)r.p.n * r.p.n, ok = 0;
+    for (size_t i = 0; i < 6 * nn; i++)
+        ok += (mask >> et[pg_synth_texel(ex, r.coords[i])]) & 1;
+    double frac = (double)ok / (6.0 * nn);
+    printf("  snow preset: %.4f of texels of allowed types (driver: %.4f)\n", frac,
+           r.info.allowed_fraction);
+    assert_true(frac >= 0.95);
+    free(et);
+    run_free(&r);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_seams_invisible),
+        cmocka_unit_test(test_independent_tiles_show_seams),
+        cmocka_unit_test(test_tilings_identical),
+        cmocka_unit_test(test_threads_identical),
+        cmocka_unit_test(test_layout_earth_and_pits),
+        cmocka_unit_test(test_snow_preset),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
