@@ -1,0 +1,122 @@
+/* pg_inspect.h - realism figures of a planet: the seam statistic, the LPIPS-style
+ * pole check, and depressions. `planetgen inspect` prints them; the planet
+ * synthesis tests reuse the seam statistic.
+ *
+ * SEAM STATISTIC (issue 5): over every pair of 4-adjacent texels, the mean |delta| of a
+ * field across the pairs that straddle a tile edge or one of the 12 face seams, divided
+ * by the mean |delta| across the pairs inside a tile. A seamless planet scores ~1; a
+ * planet whose tiles were made independently scores well above. For albedo, |delta| is
+ * the mean over R, G, B of the absolute difference (sRGB 0..1).
+ *
+ * POLE CHECK (issue 8): the six views of pg_views.h are rendered from the planet, from
+ * the exemplar reprojected onto a cube of the planet's geometry ("exemplar cube") and
+ * from the original equirectangular exemplar ("exemplar equirect"). For each view,
+ * d = LPIPS-style distance (pg_lpips.h) between the planet's view and the exemplar
+ * equirect's view: how far the planet there is from what the exemplar shows there.
+ * ratio(pole) = (d(pole) + JND) / (mean over the four equator views of d + JND); the
+ * planet's pole/equator ratio is the larger of the two poles'. A planet whose poles are
+ * distorted (pinched, smeared) scores well above 1; the gate is <= 1.15.
+ *
+ * JND (PG_INSPECT_JND) keeps the ratio meaningful when both distances are
+ * imperceptible: an exact copy of the exemplar sits at the resampling floor (~0.0003)
+ * everywhere, and the raw ratio of two floors only reflects how much fine detail each
+ * place has (1.3 for the Earth's north pole). JND is 0.005, below the distance that a
+ * Gaussian blur of one view pixel causes on Blue Marble texture (0.0066, test_lpips);
+ * with distances of 0.05 and up, as synthesized texture has, it changes the ratio by a
+ * few percent. The raw ratios are reported as well. */
+#ifndef PLANETGEN_PG_INSPECT_H
+#define PLANETGEN_PG_INSPECT_H
+
+#include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_lpips.h"
+#include "planetgen/pg_pits.h"
+#include "planetgen/pg_planet.h"
+#include "planetgen/pg_views.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The gate of issue 8: distance(pole) <= this x mean distance(equator). */
+#define PG_INSPECT_POLE_GATE 1.15
+/* Just-noticeable LPIPS-style distance added to both sides of the pole ratio (above). */
+#define PG_INSPECT_JND 0.005
+/* The gate of issue 5: seam |delta| <= this x interior |delta|. */
+#define PG_INSPECT_SEAM_GATE 1.1
+
+/* ---- seam statistic ---- */
+
+typedef struct pg_inspect_seam_stat {
+    double seam_mean;      /* mean |delta| over pairs straddling tile edges and face seams */
+    double interior_mean;  /* mean |delta| over adjacent pairs inside a tile */
+    double ratio;          /* seam_mean / interior_mean (NaN if there are no pairs) */
+    double tile_edge_mean; /* the tile edges inside faces alone (NaN with 1 tile per face) */
+    double face_seam_mean; /* the 12 face seams alone */
+    uint64_t seam_pairs, interior_pairs;
+} pg_inspect_seam_stat;
+
+typedef struct pg_inspect_seams {
+    pg_inspect_seam_stat height, albedo;
+    double ratio; /* the larger of the height and albedo ratios */
+} pg_inspect_seams;
+
+/* The statistic of one field: faces[f] holds n*n texels of ch floats in the layout of
+ * pg_cube.h (row y = 0 first); tiles are tile_size texels wide (n % tile_size == 0,
+ * tile_size a power of two). BADINPUT otherwise. */
+pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const faces[PG_CUBE_NFACES],
+                                int ch, pg_inspect_seam_stat *out, pg_error *err);
+
+/* Both fields of a planet. */
+pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg_error *err);
+
+/* ---- views and the pole check ---- */
+
+enum { PG_INSPECT_SRC_PLANET, PG_INSPECT_SRC_EXCUBE, PG_INSPECT_SRC_EXRECT, PG_INSPECT_NSRC };
+
+/* "planet", "exemplar_cube", "exemplar_equirect". */
+const char *pg_inspect_source_name(int src);
+
+typedef struct pg_inspect_views {
+    int size;
+    double fov_deg, sigma_deg; /* field; the common prefilter (pg_views_prefilter_deg) */
+    pg_view v[PG_INSPECT_NSRC][PG_VIEWS_COUNT];
+} pg_inspect_views;
+
+/* Render the six views of the three sources at size x size (fov PG_VIEWS_DEFAULT_FOV_DEG),
+ * all with the same prefilter. The exemplar cube has the planet's projection, face size
+ * and ellipsoid. */
+pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int size,
+                                  pg_inspect_views *out, pg_error *err);
+void pg_inspect_views_free(pg_inspect_views *v);
+
+typedef struct pg_inspect_poles {
+    /* d[src][view]: distance of source src's view to the exemplar equirect's view
+     * (d[PG_INSPECT_SRC_EXRECT] is 0); d[EXCUBE] is the floor that resampling alone
+     * leaves. */
+    pg_lpips_result d[PG_INSPECT_NSRC][PG_VIEWS_COUNT];
+    /* d(planet view, exemplar cube view) */
+    pg_lpips_result d_vs_cube[PG_VIEWS_COUNT];
+    double equator_mean;             /* mean planet d over the four equator views */
+    double ratio_north, ratio_south; /* (d(pole) + JND) / (equator_mean + JND) */
+    double pole_equator_ratio;       /* max of the two */
+    double raw_north, raw_south;     /* d(pole) / equator_mean, without JND */
+    double floor_ratio;              /* pole_equator_ratio of the exemplar cube (resampling only) */
+} pg_inspect_poles;
+
+pg_status pg_inspect_pole_scores(const pg_inspect_views *v, const pg_lpips_params *lp,
+                                 pg_inspect_poles *out, pg_error *err);
+
+/* ---- depressions ---- */
+
+/* pg_pits_stats_compute on the planet's heights over the whole cube sphere, sinks at
+ * and below the planet's sea level, areas from the mean texel area. */
+pg_status pg_inspect_depressions(const pg_planet *p, pg_pits_stats *out, pg_error *err);
+
+/* The planet's heights as one 6*n*n global field (caller frees). */
+float *pg_inspect_height_field(const pg_planet *p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,123 @@
+/* pg_inspect_seams.c - the seam statistic of issue 5 (see pg_inspect.h).
+ *
+ * The idea: a seam is invisible when neighbours across it differ no more than
+ * neighbours elsewhere. So we visit every 4-adjacent pair once per direction, sort it
+ * into "straddles a tile edge", "straddles a face seam" or "inside a tile", and compare
+ * the mean absolute differences. Face-seam pairs are found through pg_cube_wrap, the
+ * same adjacency map the synthesis uses, so the statistic checks exactly the
+ * neighbourhoods that synthesis stitched. Each face visits all four of its edges, so
+ * every seam pair is counted twice (once from each side): the mean is unchanged.
+ *
+ * Sums run per face in parallel into per-face accumulators, then add up in face
+ * order, so the result does not depend on the thread count. */
+#include "planetgen/pg_inspect.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { KIND_INTERIOR, KIND_TILE, KIND_FACE, KIND_COUNT };
+
+typedef struct seam_acc {
+    double sum[KIND_COUNT];
+    uint64_t count[KIND_COUNT];
+} seam_acc;
+
+static double texel_delta(const float *a, const float *b, int ch) {
+    double s = 0;
+    for (int c = 0; c < ch; c++)
+        s += fabs((double)a[c] - b[c]);
+    return s / ch;
+}
+
+static void add(seam_acc *a, int kind, double d) {
+    a->sum[kind] += d;
+    a->count[kind]++;
+}
+
+/* Pairs inside face f: right and up neighbours, classified by tile boundaries. */
+static void face_pairs(int64_t n, int S, const float *face, int ch, seam_acc *acc) {
+    for (int64_t y = 0; y < n; y++) {
+        for (int64_t x = 0; x < n; x++) {
+            const float *p = face + (size_t)(y * n + x) * ch;
+            if (x + 1 < n)
+                add(acc, (x + 1) % S ? KIND_INTERIOR : KIND_TILE, texel_delta(p, p + ch, ch));
+            if (y + 1 < n)
+                add(acc, (y + 1) % S ? KIND_INTERIOR : KIND_TILE,
+                    texel_delta(p, p + (size_t)n * ch, ch));
+        }
+    }
+}
+
+/* Pairs across the four edges of face f, through the seam map. */
+static void seam_pairs(const pg_cube_grid *g, int f, const float *const faces[PG_CUBE_NFACES],
+                       int ch, seam_acc *acc) {
+    int64_t n = g->n;
+    for (int64_t k = 0; k < n; k++) {
+        int64_t in[4][2] = {{n - 1, k}, {0, k}, {k, n - 1}, {k, 0}};
+        int64_t out[4][2] = {{n, k}, {-1, k}, {k, n}, {k, -1}};
+        for (int e = 0; e < 4; e++) {
+            int rot;
+            int64_t id = pg_cube_wrap(g, f, out[e][0], out[e][1], &rot);
+            int64_t nf = id / (n * n), rest = id % (n * n);
+            const float *a = faces[f] + (size_t)(in[e][1] * n + in[e][0]) * ch;
+            const float *b = faces[nf] + (size_t)rest * ch;
+            add(acc, KIND_FACE, texel_delta(a, b, ch));
+        }
+    }
+}
+
+static double mean_of(double s, uint64_t c) {
+    return c ? s / (double)c : NAN;
+}
+
+pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const faces[PG_CUBE_NFACES],
+                                int ch, pg_inspect_seam_stat *out, pg_error *err) {
+    memset(out, 0, sizeof *out);
+    if (n < 2 || tile_size < 1 || n % tile_size || ch < 1)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "seams: face size %lld is not a multiple of tile size %d", (long long)n,
+                            tile_size);
+    pg_cube_grid g;
+    pg_status st =
+        pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, (int)(n / tile_size), tile_size, err);
+    if (st != PG_OK) return st;
+    seam_acc acc[PG_CUBE_NFACES];
+    memset(acc, 0, sizeof acc);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        seam_acc local; /* accumulate privately: neighbouring acc[] share cache lines */
+        memset(&local, 0, sizeof local);
+        face_pairs(n, tile_size, faces[f], ch, &local);
+        seam_pairs(&g, f, faces, ch, &local);
+        acc[f] = local;
+    }
+    seam_acc t;
+    memset(&t, 0, sizeof t);
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int k = 0; k < KIND_COUNT; k++) {
+            t.sum[k] += acc[f].sum[k];
+            t.count[k] += acc[f].count[k];
+        }
+    out->seam_pairs = t.count[KIND_TILE] + t.count[KIND_FACE];
+    out->interior_pairs = t.count[KIND_INTERIOR];
+    out->seam_mean = mean_of(t.sum[KIND_TILE] + t.sum[KIND_FACE], out->seam_pairs);
+    out->interior_mean = mean_of(t.sum[KIND_INTERIOR], out->interior_pairs);
+    out->tile_edge_mean = mean_of(t.sum[KIND_TILE], t.count[KIND_TILE]);
+    out->face_seam_mean = mean_of(t.sum[KIND_FACE], t.count[KIND_FACE]);
+    out->ratio = out->interior_mean > 0 ? out->seam_mean / out->interior_mean : NAN;
+    return PG_OK;
+}
+
+pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg_error *err) {
+    memset(out, 0, sizeof *out);
+    const float *h[PG_CUBE_NFACES], *a[PG_CUBE_NFACES];
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        h[f] = p->height[f];
+        a[f] = p->albedo[f];
+    }
+    pg_status st = pg_inspect_seam_field(p->n, p->tile_size, h, 1, &out->height, err);
+    if (st == PG_OK) st = pg_inspect_seam_field(p->n, p->tile_size, a, 3, &out->albedo, err);
+    out->ratio = fmax(out->height.ratio, out->albedo.ratio);
+    return st;
+}

@@ -1,0 +1,223 @@
+/* test_inspect.c - the pole gate of issue 8 on the real exemplar, its negative control,
+ * the seam statistic, and `planetgen inspect` as a user runs it.
+ *
+ * Positive case: the default-size planet (6 x 4x4 x 256^2, equi-angular) made by
+ * reprojecting the Earth exemplar onto the cube (pg_planet_from_exemplar), the
+ * undistorted planet until `planetgen generate` exists. Its pole distances must stay
+ * within PG_INSPECT_POLE_GATE of the equator mean.
+ *
+ * Negative control (test code only): the same content laid out the way a synthesis in
+ * equirectangular latitude-longitude space lays it out. Such a synthesis treats the
+ * W x H lat-lon grid as a flat, isotropic image: a patch of P x P pixels holds P x P
+ * pixels' worth of exemplar texture at the equator's scale wherever it is placed. We
+ * emulate it with overlapping patches (raised-cosine windows, period PATCH px): each
+ * patch is filled with the exemplar as seen in the tangent plane at the patch's centre,
+ * one equatorial pixel per pixel. At the equator that is the identity; at latitude phi
+ * the texture is squeezed east-west by cos(phi) and neighbouring patches disagree, so
+ * towards the poles it pinches and smears - the classic lat-lon failure. The check
+ * must fail visibly on it. */
+#include "pg_test.h"
+
+#include "planetgen/pg_inspect.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PATCH 48 /* lat-lon emulation: patch period in pixels of the exemplar grid */
+static const double PI = 3.14159265358979323846;
+
+typedef struct fixture {
+    pg_exemplar ex;
+    pg_planet earth;
+    char dir[1024]; /* the Earth planet saved as a planet directory */
+    char buf[1200];
+} fixture;
+
+static const char *path_in_dir(const char *name, void *user) {
+    fixture *fx = user;
+    char tmp[1200];
+    snprintf(tmp, sizeof tmp, "%s/%s", fx->dir, name);
+    memcpy(fx->buf, tmp, sizeof tmp);
+    return fx->buf;
+}
+
+static int setup(void **state) {
+    fixture *fx = calloc(1, sizeof *fx);
+    pg_error err = {0};
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    if (pg_exemplar_load(&o, &fx->ex, &err) != PG_OK ||
+        pg_planet_alloc(&fx->earth, PG_CUBE_DEFAULT_PROJECTION, 4, 256, pg_ellipsoid_sphere(),
+                        &err) != PG_OK ||
+        pg_planet_from_exemplar(&fx->earth, &fx->ex, 2, &err) != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    pg_test_scratch_dir("inspect_earth", fx->dir, sizeof fx->dir);
+    if (pg_planet_save(&fx->earth, path_in_dir, fx, &err) != PG_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    *state = fx;
+    return 0;
+}
+
+static int teardown(void **state) {
+    fixture *fx = *state;
+    pg_planet_free(&fx->earth);
+    pg_exemplar_free(&fx->ex);
+    free(fx);
+    return 0;
+}
+
+/* ---- the lat-lon emulation ---- */
+
+static void latlon_dir(double lat, double lon, double d[3]) {
+    d[0] = cos(lat) * cos(lon), d[1] = cos(lat) * sin(lon), d[2] = sin(lat);
+}
+
+/* Exemplar RGB + height at a direction. */
+static void ex_at(const pg_exemplar *ex, const double d[3], float out[4]) {
+    double lat = atan2(d[2], hypot(d[0], d[1])) * 180 / PI, lon = atan2(d[1], d[0]) * 180 / PI;
+    pg_equirect_sample(ex->albedo, ex->width, ex->height, 3, lat, lon, out);
+    pg_equirect_sample(ex->elevation, ex->width, ex->height, 1, lat, lon, out + 3);
+}
+
+/* Patch (I, J)'s prediction for pixel (i, j): the exemplar in the tangent plane at the
+ * patch centre, one equatorial pixel (2 pi / W radians) per pixel. */
+static void patch_predict(const pg_exemplar *ex, int I, int J, int i, int j, float out[4]) {
+    int W = ex->width, H = ex->height;
+    double s = 2 * PI / W;
+    double lat = PI / 2 - (J + 0.5) * PI / H, lon = -PI + (I + 0.5) * 2 * PI / W;
+    double c[3], e[3] = {-sin(lon), cos(lon), 0},
+                 nv[3] = {-sin(lat) * cos(lon), -sin(lat) * sin(lon), cos(lat)};
+    latlon_dir(lat, lon, c);
+    double de = (i - I) * s, dn = (J - j) * s, a = hypot(de, dn), d[3];
+    for (int k = 0; k < 3; k++) {
+        double t = a > 0 ? (de * e[k] + dn * nv[k]) / a : 0;
+        d[k] = cos(a) * c[k] + sin(a) * t; /* the geodesic from c along the offset */
+    }
+    ex_at(ex, d, out);
+}
+
+/* Raised-cosine weight for offset d from a patch centre: sums to 1 over patches. */
+static double window(double d) {
+    double t = cos(PI * d / (2 * PATCH));
+    return fabs(d) < PATCH ? t * t : 0;
+}
+
+/* The lat-lon "synthesis": an equirect RGB+height image on the exemplar's grid. */
+static float *latlon_layout(const pg_exemplar *ex) {
+    int W = ex->width, H = ex->height;
+    float *img = calloc((size_t)W * H * 4, sizeof *img);
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            double acc[4] = {0}, wsum = 0;
+            int J0 = (j / PATCH) * PATCH, I0 = (i / PATCH) * PATCH;
+            for (int J = J0 - PATCH; J <= J0 + PATCH; J += PATCH)
+                for (int I = I0 - PATCH; I <= I0 + PATCH; I += PATCH) {
+                    double w = window(i - I) * window(j - J);
+                    if (w <= 0) continue;
+                    float v[4];
+                    patch_predict(ex, I, J < 0 ? 0 : J >= H ? H - 1 : J, i, j, v);
+                    for (int k = 0; k < 4; k++)
+                        acc[k] += w * v[k];
+                    wsum += w;
+                }
+            for (int k = 0; k < 4; k++)
+                img[((size_t)j * W + i) * 4 + k] = (float)(acc[k] / wsum);
+        }
+    }
+    return img;
+}
+
+/* The lat-lon layout mapped onto a planet of the Earth planet's geometry. */
+static void latlon_planet(const fixture *fx, pg_planet *p) {
+    pg_error err = {0};
+    const pg_planet *e = &fx->earth;
+    assert_int_equal(pg_planet_alloc(p, e->projection, e->tiles, e->tile_size, e->ellipsoid, &err),
+                     PG_OK);
+    float *img = latlon_layout(&fx->ex);
+    size_t nn = (size_t)e->n * e->n;
+    float *cube = malloc(6 * nn * 4 * sizeof *cube);
+    assert_int_equal(pg_cube_from_equirect(e->projection, e->n, &e->ellipsoid, img, fx->ex.width,
+                                           fx->ex.height, 4, 2, cube, &err),
+                     PG_OK);
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (size_t i = 0; i < nn; i++) {
+            memcpy(p->albedo[f] + 3 * i, cube + ((size_t)f * nn + i) * 4, 3 * sizeof(float));
+            p->height[f][i] = cube[((size_t)f * nn + i) * 4 + 3];
+        }
+    p->sea_level = e->sea_level;
+    free(cube), free(img);
+}
+
+/* ---- tests ---- */
+
+static void print_scores(const char *what, const pg_inspect_poles *s) {
+    printf("%s:\n", what);
+    for (int k = 0; k < PG_VIEWS_COUNT; k++)
+        printf("  %-12s planet %.4f  exemplar-cube floor %.4f  planet vs cube %.4f\n",
+               pg_views_centre_get(k)->name, s->d[PG_INSPECT_SRC_PLANET][k].distance,
+               s->d[PG_INSPECT_SRC_EXCUBE][k].distance, s->d_vs_cube[k].distance);
+    printf("  ratio north %.3f south %.3f -> %.3f (raw %.3f %.3f; exemplar cube %.3f)\n",
+           s->ratio_north, s->ratio_south, s->pole_equator_ratio, s->raw_north, s->raw_south,
+           s->floor_ratio);
+}
+
+static void scores_of(const fixture *fx, const pg_planet *p, pg_inspect_views *v,
+                      pg_inspect_poles *s) {
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_render_views(p, &fx->ex, PG_VIEWS_DEFAULT_SIZE, v, &err), PG_OK);
+    pg_lpips_params lp;
+    pg_lpips_params_default(&lp);
+    assert_int_equal(pg_inspect_pole_scores(v, &lp, s, &err), PG_OK);
+}
+
+/* Both planets' poles side by side, for the eye: Earth north | lat-lon north |
+ * Earth south | lat-lon south. */
+static void write_montage(const pg_inspect_views *a, const pg_inspect_views *b) {
+    const pg_view *row[4] = {
+        &a->v[PG_INSPECT_SRC_PLANET][PG_VIEW_NORTH], &b->v[PG_INSPECT_SRC_PLANET][PG_VIEW_NORTH],
+        &a->v[PG_INSPECT_SRC_PLANET][PG_VIEW_SOUTH], &b->v[PG_INSPECT_SRC_PLANET][PG_VIEW_SOUTH]};
+    pg_image m;
+    pg_error err = {0};
+    assert_int_equal(pg_views_montage(row, 4, 8, &m, &err), PG_OK);
+    char dir[1024], path[1100];
+    pg_test_scratch_dir("inspect_poles", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/poles_cube_vs_latlon.png", dir);
+    assert_int_equal(pg_image_write_png(path, &m, 8, &err), PG_OK);
+    printf("pole views: %s\n", path);
+    pg_image_free(&m);
+}
+
+static void test_pole_gate_and_negative_control(void **state) {
+    fixture *fx = *state;
+    pg_inspect_views ve, vl;
+    pg_inspect_poles se, sl;
+    scores_of(fx, &fx->earth, &ve, &se);
+    print_scores("Earth on the cube", &se);
+    pg_planet ll;
+    latlon_planet(fx, &ll);
+    scores_of(fx, &ll, &vl, &sl);
+    print_scores("the same content laid out in lat-lon space", &sl);
+    write_montage(&ve, &vl);
+    /* the gate, both poles */
+    assert_true(se.ratio_north <= PG_INSPECT_POLE_GATE);
+    assert_true(se.ratio_south <= PG_INSPECT_POLE_GATE);
+    /* the negative control fails it clearly */
+    assert_true(sl.pole_equator_ratio > 2 * PG_INSPECT_POLE_GATE);
+    /* and its equator is as good as the cube's: the failure is the poles' */
+    assert_true(sl.equator_mean < 2 * se.equator_mean + 0.02);
+    pg_inspect_views_free(&ve);
+    pg_inspect_views_free(&vl);
+    pg_planet_free(&ll);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_pole_gate_and_negative_control)};
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
