@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 static double status_mb(const char *key) {
     FILE *f = fopen("/proc/self/status", "r");
@@ -29,6 +30,23 @@ static void reset_peak(void) {
         fputs("5", f);
         fclose(f);
     }
+}
+
+/* CPU seconds of this process (all threads): on a shared machine wall time includes
+ * waiting for cores other people use; CPU time does not. */
+static double cpu_seconds(void) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6 + ru.ru_stime.tv_sec +
+           ru.ru_stime.tv_usec * 1e-6;
+}
+
+static double loadavg(void) {
+    double l = -1;
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f && fscanf(f, "%lf", &l) != 1) l = -1;
+    if (f) fclose(f);
+    return l;
 }
 
 static const char *stage_names[5] = {"cube reprojection", "Gaussian stack", "appearance PCA",
@@ -69,9 +87,11 @@ int main(int argc, char **argv) {
     printf("load default exemplar (%d x %d): %.2f s\n", src.width, src.height, pg_synth_now() - t0);
     pg_synth_exemplar *ex;
     pg_synth_prep_info pi;
+    double c0 = cpu_seconds();
     if (prep(&src, dir, &ex, &pi)) return 1;
-    printf("exemplar prep %s: %.2f s (%.0f MB)\n", pi.from_cache ? "(was cached)" : "cold",
-           pi.seconds, pi.bytes / 1e6);
+    printf("exemplar prep %s: %.2f s wall, %.2f s CPU (%.0f MB); load average %.1f\n",
+           pi.from_cache ? "(was cached)" : "cold", pi.seconds, cpu_seconds() - c0, pi.bytes / 1e6,
+           loadavg());
     for (int i = 0; i < 5; i++)
         printf("  %-24s %.2f s\n", stage_names[i], pi.stage_seconds[i]);
     pg_synth_exemplar_free(ex);
@@ -86,6 +106,7 @@ int main(int argc, char **argv) {
     pg_synth_params_default(&sp);
     pg_synth_result r;
     t0 = pg_synth_now();
+    c0 = cpu_seconds();
     if (pg_synth_flat(ex, n, &sp, NULL, NULL, &r, &err) != PG_OK) {
         fprintf(stderr, "bench_synth: %s\n", err.msg);
         return 1;
@@ -94,7 +115,7 @@ int main(int argc, char **argv) {
     uint8_t *rgb = malloc(count * 3);
     float *h = malloc(count * sizeof(float));
     pg_synth_render(ex, r.coords, r.offset, count, rgb, h);
-    double dt = pg_synth_now() - t0;
+    double dt = pg_synth_now() - t0, dc = cpu_seconds() - c0;
     double peak_mb = status_mb("VmHWM:");
     FILE *sm = fopen("/proc/self/smaps_rollup", "r");
     char line[256];
@@ -103,6 +124,8 @@ int main(int argc, char **argv) {
     if (sm) fclose(sm);
     printf("synthesis + render %d x %d: %.2f s = %.2f Mpx/s (target >= 2)\n", n, n, dt,
            count / dt / 1e6);
+    printf("  CPU time %.2f s = %.2f Mpx per CPU-second; load average %.1f\n", dc, count / dc / 1e6,
+           loadavg());
     printf("  per level (coarse -> fine):");
     for (int i = 0; i < r.nlevels_run; i++)
         printf(" %.3f", r.level_seconds[i]);

@@ -49,6 +49,21 @@ static int validate(pg_cli *cli, const synth_args *a) {
     return 0;
 }
 
+/* Exemplar faces store row 0 at the south (-v) edge; images put row 0 on top. Flip so
+ * copied patches appear north-up, as in the exemplar. */
+static void flip_rows(void *data, int n, size_t texel_bytes) {
+    size_t row = (size_t)n * texel_bytes;
+    unsigned char *d = data, tmp[4096];
+    for (int y = 0; y < n / 2; y++)
+        for (size_t off = 0; off < row; off += sizeof tmp) {
+            size_t len = row - off < sizeof tmp ? row - off : sizeof tmp;
+            unsigned char *a = d + (size_t)y * row + off, *b = d + (size_t)(n - 1 - y) * row + off;
+            memcpy(tmp, a, len);
+            memcpy(a, b, len);
+            memcpy(b, tmp, len);
+        }
+}
+
 static pg_status write_outputs(pg_cli *cli, const synth_args *a, const pg_synth_exemplar *ex,
                                const pg_synth_result *r, pg_error *err) {
     const int n = r->size;
@@ -62,6 +77,9 @@ static pg_status write_outputs(pg_cli *cli, const synth_args *a, const pg_synth_
     if (!st) {
         pg_synth_render(ex, r->coords, r->offset, count, rgb, hgt.data);
         pg_synth_coords_rgb(ex, r->coords, count, crgb);
+        flip_rows(rgb, n, 3);
+        flip_rows(crgb, n, 3);
+        flip_rows(hgt.data, n, 4);
         for (size_t i = 0; i < count * 3; i++)
             img.data[i] = rgb[i] * (1.0f / 255.0f);
         const char *p = pg_cli_output_path(cli, a->outdir, "albedo.png");
