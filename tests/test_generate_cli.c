@@ -1,0 +1,143 @@
+/* test_generate_cli.c - `planetgen generate` end to end: each bad input of issue 5 exits
+ * 2 with a one-line message naming the problem (and writes nothing), and a small planet
+ * run writes the planet directory, the previews and a JSON report with the quality
+ * figures (pits after the final pass: 0). */
+#include "pg_test.h"
+
+#include "planetgen/pg_image.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char out[8192], err[8192];
+
+static void expect_bad(const char *args, const char *needle) {
+    int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 2 || !strstr(err, needle))
+        fail_msg("'%s': exit %d, stderr '%s' (wanted exit 2 and '%s')", args, rc, err, needle);
+}
+
+/* Write a w x h RGB PNG filled by fn(x, y, rgb). */
+static void write_png(const char *path, int w, int h, void (*fn)(int, int, float *)) {
+    pg_image img;
+    pg_error e = {0};
+    assert_int_equal(pg_image_alloc(&img, w, h, 3, &e), PG_OK);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            fn(x, y, img.data + ((size_t)y * w + x) * 3);
+    assert_int_equal(pg_image_write_png(path, &img, 8, &e), PG_OK);
+    pg_image_free(&img);
+}
+
+static void grey_ramp(int x, int y, float *c) {
+    (void)y;
+    c[0] = c[1] = c[2] = (float)(x % 64) / 63.0f;
+}
+
+static void types_with_magenta(int x, int y, float *c) {
+    c[0] = 0, c[1] = 0, c[2] = 1;                      /* ocean */
+    if (x < 10 && y < 5) c[0] = 1, c[1] = 0, c[2] = 1; /* magenta names no type */
+}
+
+static void test_bad_sizes(void **state) {
+    (void)state;
+    char dir[512], args[1024];
+    pg_test_scratch_dir("generate-cli-bad", dir, sizeof dir);
+    snprintf(args, sizeof args, "generate --tile-size 16 -o %s/o", dir);
+    expect_bad(args, "pyramid");
+    snprintf(args, sizeof args, "generate --tile-size 100 -o %s/o", dir);
+    expect_bad(args, "power of two");
+    snprintf(args, sizeof args, "generate --tiles 64 --tile-size 4096 -o %s/o", dir);
+    expect_bad(args, "GB"); /* T*S too large: the estimate is shown */
+    snprintf(args, sizeof args, "generate --tiles 4 --max-memory 0.01 -o %s/o", dir);
+    expect_bad(args, "--max-memory");
+    expect_bad("generate --preset moon", "--preset");
+    expect_bad("generate --layout flat", "--layout");
+    expect_bad("generate --final-pits magic", "--final-pits");
+    assert_int_equal(pg_test_count_files(dir), 0);
+}
+
+static void test_bad_maps(void **state) {
+    (void)state;
+    char dir[512], f[600], args[2048];
+    pg_test_scratch_dir("generate-cli-maps", dir, sizeof dir);
+    snprintf(args, sizeof args, "generate --guide %s/missing.png -o %s/o", dir, dir);
+    expect_bad(args, "--guide");
+    snprintf(f, sizeof f, "%s/square.png", dir);
+    write_png(f, 64, 64, grey_ramp);
+    snprintf(args, sizeof args, "generate --guide %s -o %s/o", f, dir);
+    expect_bad(args, "2:1");
+    snprintf(args, sizeof args, "generate --types %s -o %s/o", f, dir);
+    expect_bad(args, "2:1");
+    snprintf(f, sizeof f, "%s/types.png", dir);
+    write_png(f, 128, 64, types_with_magenta);
+    snprintf(args, sizeof args, "generate --types %s -o %s/o", f, dir);
+    expect_bad(args, "#ff00ff");
+    assert_non_null(strstr(err, "name no type"));
+}
+
+/* An all-ocean exemplar: the desert preset leaves no valid exemplar texel. */
+static void ocean_albedo(int x, int y, float *c) {
+    c[0] = 0.02f, c[1] = 0.05f + 0.05f * (float)((x * 7 + y * 13) % 11) / 10.0f, c[2] = 0.3f;
+}
+
+static void test_preset_without_texels(void **state) {
+    (void)state;
+    char dir[512], a[600], h[600], args[2048];
+    pg_test_scratch_dir("generate-cli-preset", dir, sizeof dir);
+    snprintf(a, sizeof a, "%s/albedo.png", dir);
+    write_png(a, 256, 128, ocean_albedo);
+    pg_image img;
+    pg_error e = {0};
+    assert_int_equal(pg_image_alloc(&img, 256, 128, 1, &e), PG_OK);
+    for (int i = 0; i < 256 * 128; i++)
+        img.data[i] = -3000.0f - 500.0f * (float)((i * 31) % 17) / 16.0f;
+    snprintf(h, sizeof h, "%s/height.exr", dir);
+    assert_int_equal(pg_image_write_exr(h, &img, NULL, &e), PG_OK);
+    pg_image_free(&img);
+    snprintf(args, sizeof args,
+             "generate --tiles 1 --tile-size 32 --preset desert --albedo %s --height %s "
+             "--no-cache -o %s/o",
+             a, h, dir);
+    expect_bad(args, "no exemplar texel");
+}
+
+static void test_small_planet(void **state) {
+    (void)state;
+    char dir[512], args[2048], path[700];
+    pg_test_scratch_dir("generate-cli-run", dir, sizeof dir);
+    snprintf(args, sizeof args,
+             "generate --tiles 2 --tile-size 64 --seed 3 --cache-dir %s/synth-cache -o %s/p "
+             "--json %s/r.json",
+             getenv("PG_BUILD_DIR"), dir, dir);
+    int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 0) fail_msg("exit %d: %s", rc, err);
+    const char *files[] = {"planet.json",   "height.exr", "albedo_+X.png",
+                           "albedo_-Z.png", "albedo.png", "relief.png"};
+    for (int i = 0; i < 6; i++) {
+        snprintf(path, sizeof path, "%s/p/%s", dir, files[i]);
+        if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
+    }
+    snprintf(path, sizeof path, "%s/r.json", dir);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    static char json[65536];
+    size_t n = fread(json, 1, sizeof json - 1, f);
+    json[n] = 0;
+    fclose(f);
+    const char *after = strstr(json, "\"pits_after\"");
+    assert_non_null(after);
+    assert_non_null(strstr(after, "\"depressions\": 0"));
+    assert_non_null(strstr(json, "\"land_agreement\""));
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bad_sizes),
+        cmocka_unit_test(test_bad_maps),
+        cmocka_unit_test(test_preset_without_texels),
+        cmocka_unit_test(test_small_planet),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
