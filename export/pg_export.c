@@ -139,25 +139,39 @@ static pg_status encode_slot(glb_images *gi, int k, const char *kind, const floa
                             &gi->bytes[k], &im->size, err);
 }
 
+/* The three images of a face: the normal map and the normalised heights are
+ * computed first (each loop parallel), then the three encodings run in parallel:
+ * PNG compression is the slowest step and is single-threaded per image. */
 static pg_status encode_face(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
                              const pg_export_opts *o, double lo, double scale, int f,
                              glb_images *gi, pg_error *err) {
     size_t nn = (size_t)p->n * p->n;
+    float *nrm = malloc(nn * 3 * sizeof(float)), *hgt = malloc(nn * sizeof(float));
+    pg_status st = nrm && hgt ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
+    if (st == PG_OK) st = pg_export_normal_map(p, g, mesh, o->exaggeration, f, nrm, err);
+    if (st == PG_OK) {
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < nn; i++)
+            hgt[i] = (float)((p->height[f][i] - lo) / scale);
+    }
     pg_export_codec albedo_codec =
         o->texture_format == PG_EXPORT_TEXTURE_JPEG ? PG_EXPORT_CODEC_JPEG : PG_EXPORT_CODEC_PNG;
-    pg_status st = encode_slot(gi, 3 * f, "albedo", p->albedo[f], p->n, 3, 8, albedo_codec,
-                               o->jpeg_quality, err);
-    float *buf = st == PG_OK ? malloc(nn * 3 * sizeof(float)) : NULL;
-    if (st == PG_OK && !buf) st = pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
-    if (st == PG_OK) st = pg_export_normal_map(p, g, mesh, o->exaggeration, f, buf, err);
-    if (st == PG_OK)
-        st = encode_slot(gi, 3 * f + 1, "normal", buf, p->n, 3, 8, PG_EXPORT_CODEC_PNG, 0, err);
+    const char *kind[3] = {"albedo", "normal", "height"};
+    const float *data[3] = {p->albedo[f], nrm, hgt};
+    const int ch[3] = {3, 3, 1}, bits[3] = {8, 8, 16};
+    const pg_export_codec codec[3] = {albedo_codec, PG_EXPORT_CODEC_PNG, PG_EXPORT_CODEC_PNG};
+    pg_error e[3] = {{0}, {0}, {0}};
+    pg_status sk[3] = {PG_OK, PG_OK, PG_OK};
     if (st == PG_OK) {
-        for (size_t i = 0; i < nn; i++)
-            buf[i] = (float)((p->height[f][i] - lo) / scale);
-        st = encode_slot(gi, 3 * f + 2, "height", buf, p->n, 1, 16, PG_EXPORT_CODEC_PNG, 0, err);
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int k = 0; k < 3; k++)
+            sk[k] = encode_slot(gi, 3 * f + k, kind[k], data[k], p->n, ch[k], bits[k], codec[k],
+                                o->jpeg_quality, &e[k]);
     }
-    free(buf);
+    for (int k = 0; st == PG_OK && k < 3; k++)
+        if (sk[k] != PG_OK) st = pg_error_set(err, sk[k], "%s", e[k].msg);
+    free(nrm);
+    free(hgt);
     return st;
 }
 

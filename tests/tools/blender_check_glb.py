@@ -1,6 +1,7 @@
 # blender_check_glb.py - run inside Blender (blender -b --python THIS -- GLB OUT.png):
 # import a planetgen .glb with Blender's own glTF importer, report what it found
-# and render one frame with Cycles on the CPU.
+# and render one frame with Cycles on the CPU. Optional arguments after OUT.png:
+# resolution (default 160) and samples (default 8).
 #
 # Prints lines the C test (tests/test_export_blender.c) parses:
 #   PRIMITIVES n        material slots that own polygons (one per glTF primitive)
@@ -18,7 +19,10 @@ if not hasattr(numpy, "bool"):  # Debian's Blender 3.4 importer uses numpy.bool
 import bpy
 import mathutils
 
-glb, out_png = sys.argv[sys.argv.index("--") + 1:][:2]
+args = sys.argv[sys.argv.index("--") + 1:]
+glb, out_png = args[:2]
+size = int(args[2]) if len(args) > 2 else 160  # optional: resolution, samples
+samples = int(args[3]) if len(args) > 3 else 8
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_scene.gltf(filepath=glb)
 scene = bpy.context.scene
@@ -75,9 +79,9 @@ world.color = (0, 0, 0)
 scene.world = world
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
-scene.cycles.samples = 8
+scene.cycles.samples = samples
 scene.cycles.use_denoising = False  # Debian's build has no OpenImageDenoise
-scene.render.resolution_x = scene.render.resolution_y = 160
+scene.render.resolution_x = scene.render.resolution_y = size
 scene.render.resolution_percentage = 100
 scene.render.image_settings.file_format = "PNG"
 scene.render.filepath = out_png
