@@ -217,7 +217,113 @@ static void test_pole_gate_and_negative_control(void **state) {
     pg_planet_free(&ll);
 }
 
+/* The seam statistic: ~1 on the reprojected Earth (no seams: within issue 5's gate);
+ * clearly above once every tile's albedo and height are offset by its own constant, as
+ * tiles made without their neighbours would be. */
+static void test_seam_statistic(void **state) {
+    fixture *fx = *state;
+    pg_error err = {0};
+    pg_inspect_seams s;
+    assert_int_equal(pg_inspect_seams_compute(&fx->earth, &s, &err), PG_OK);
+    printf("Earth: seam ratio height %.3f albedo %.3f (tile edges %.5f, face seams %.5f, "
+           "interior %.5f)\n",
+           s.height.ratio, s.albedo.ratio, s.albedo.tile_edge_mean, s.albedo.face_seam_mean,
+           s.albedo.interior_mean);
+    assert_true(s.ratio <= PG_INSPECT_SEAM_GATE && s.ratio > 0.9);
+    /* 6 x 4 x 4 tiles + 3 x 3 x 3 interior tile edges per face direction */
+    int64_t n = fx->earth.n;
+    assert_true(s.height.seam_pairs == (uint64_t)(6 * 2 * 3 * n + 6 * 4 * n));
+    pg_planet q;
+    assert_int_equal(pg_planet_alloc(&q, fx->earth.projection, fx->earth.tiles, fx->earth.tile_size,
+                                     fx->earth.ellipsoid, &err),
+                     PG_OK);
+    int S = q.tile_size;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t i = 0; i < n * n; i++) {
+            int64_t tile = (i / n / S) * 4 + (i % n) / S;
+            float jump = (float)((tile * 7 + f * 3) % 5 - 2); /* -2..2 steps per tile */
+            q.height[f][i] = fx->earth.height[f][i] + 50 * jump;
+            for (int c = 0; c < 3; c++)
+                q.albedo[f][3 * i + c] = fx->earth.albedo[f][3 * i + c] + 0.01f * jump;
+        }
+    assert_int_equal(pg_inspect_seams_compute(&q, &s, &err), PG_OK);
+    printf("offset tiles: seam ratio height %.3f albedo %.3f\n", s.height.ratio, s.albedo.ratio);
+    assert_true(s.height.ratio > 1.5 && s.albedo.ratio > 1.5);
+    pg_planet_free(&q);
+}
+
+/* ---- the CLI ---- */
+
+static double json_number(const char *path, const char *key) {
+    static char buf[1 << 16];
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    char pat[128];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *p = strstr(buf, pat);
+    assert_non_null(p);
+    return strtod(p + strlen(pat), NULL);
+}
+
+static void test_cli_report(void **state) {
+    fixture *fx = *state;
+    char json[1200], args[4096], out[8192], errb[2048];
+    snprintf(json, sizeof json, "%s/../inspect_earth.json", fx->dir);
+    snprintf(args, sizeof args, "inspect '%s' --json '%s' --view-size 256", fx->dir, json);
+    int rc = pg_test_run_cli(args, out, sizeof out, errb, sizeof errb);
+    printf("%s%s", out, errb);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "NOT learned LPIPS"));
+    double ratio = json_number(json, "pole_equator_ratio");
+    assert_true(ratio > 0.5 && ratio <= PG_INSPECT_POLE_GATE);
+    assert_true(json_number(json, "seam_ratio") <= PG_INSPECT_SEAM_GATE);
+    assert_true(json_number(json, "depressions") >= 0);
+    char views[1200];
+    snprintf(views, sizeof views, "%s/inspect", fx->dir);
+    assert_int_equal(pg_test_count_files(views), PG_INSPECT_NSRC * PG_VIEWS_COUNT + 1);
+    snprintf(views, sizeof views, "%s/inspect/poles.png", fx->dir);
+    assert_true(pg_test_file_nonempty(views));
+}
+
+static void expect_bad(const char *args, const char *needle) {
+    char errb[2048];
+    int rc = pg_test_run_cli(args, NULL, 0, errb, sizeof errb);
+    printf("%s -> %d: %s", args, rc, errb);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(errb, needle));
+}
+
+static void test_cli_bad_input(void **state) {
+    fixture *fx = *state;
+    char dir[1024], args[4096], src[1200], dst[1200];
+    pg_test_scratch_dir("inspect_bad", dir, sizeof dir);
+    snprintf(args, sizeof args, "inspect '%s'", dir);
+    expect_bad(args, "not a planet output");
+    /* planet.json alone: the first missing face file is named */
+    snprintf(src, sizeof src, "%s/planet.json", fx->dir);
+    snprintf(dst, sizeof dst, "%s/planet.json", dir);
+    char cmd[3000];
+    snprintf(cmd, sizeof cmd, "cp '%s' '%s'", src, dst);
+    assert_int_equal(system(cmd), 0);
+    expect_bad(args, "missing albedo_+X.png");
+    snprintf(args, sizeof args, "inspect '%s/nope'", dir);
+    expect_bad(args, "not a directory");
+    const char *sizes[] = {"300", "0", "-4", "255"};
+    for (int i = 0; i < 4; i++) {
+        snprintf(args, sizeof args, "inspect '%s' --view-size %s", fx->dir, sizes[i]);
+        expect_bad(args, "--view-size: must be a positive power of two");
+    }
+    snprintf(args, sizeof args, "inspect '%s' --view-size 128", fx->dir);
+    expect_bad(args, "--view-size: must be 256..4096");
+}
+
 int main(void) {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_pole_gate_and_negative_control)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_pole_gate_and_negative_control),
+                                       cmocka_unit_test(test_seam_statistic),
+                                       cmocka_unit_test(test_cli_report),
+                                       cmocka_unit_test(test_cli_bad_input)};
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -18,6 +18,7 @@ static const pg_command pg_commands[] = {
     {"exemplar", pg_cmd_exemplar, "load an exemplar, print its statistics, write previews"},
     {"generate", pg_cmd_generate, "synthesize a whole planet by example on the cube sphere"},
     {"grid", pg_cmd_grid, "describe a cube-sphere grid: counts, texel areas, distortion"},
+    {"inspect", pg_cmd_inspect, "realism report of a planet: LPIPS-style poles, seams, pits"},
     {"pits", pg_cmd_pits, "remove pits from a DEM (fill, breach, hybrid) or count them"},
     {"synth", pg_cmd_synth, "synthesize a flat N x N terrain by example (Lefebvre-Hoppe)"},
     {NULL, NULL, NULL}};

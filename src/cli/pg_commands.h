@@ -10,6 +10,7 @@ struct pg_exemplar;
 void pg_synth_cli_report_prep(pg_cli *cli, const struct pg_exemplar *src); /* cmd_synth.c */
 int pg_cmd_generate(pg_cli *cli, int argc, char **argv);
 int pg_cmd_grid(pg_cli *cli, int argc, char **argv);
+int pg_cmd_inspect(pg_cli *cli, int argc, char **argv);
 int pg_cmd_pits(pg_cli *cli, int argc, char **argv);
 
 #endif
