@@ -11,7 +11,7 @@
  * is carved: every cell on it is lowered to the next float below both T(n) and the
  * previous path cell, until a cell already low enough or a sink is reached.
  *
- * This file computes exactly the same carving in linear time. Observation: the flood
+ * This file computes the same carving in linear time. Observation: the flood
  * tree F and the pop order depend only on the original heights (a cell is pushed
  * with its own, never yet lowered, height, and carving only touches cells already
  * popped). Carving enforces, along every tree edge child -> parent, "parent below
@@ -20,8 +20,11 @@
  *     T'(x) = nextbelow(m)      with m the lowest final child height, if m < T(x)
  *                               (epsilon: if m <= T(x), i.e. flats are carved too),
  * which one sweep over the cells in REVERSE pop order computes, since every child is
- * popped after its parent. The walk-back version re-walks channels once per pit cell
- * (quadratic on wide flats); this one touches each tree edge once.
+ * popped after its parent. With epsilon this is the largest surface below T with
+ * every parent strictly below its children, which is exactly what the walks
+ * converge to (each walk lowers just enough). The walk-back version re-walks
+ * channels once per pit cell (quadratic on wide flats); this sweep touches each tree
+ * edge once.
  *
  * Preconditions: pits_begin seeded the queue; heights are not NaN.
  * Why it is correct: every non-sink cell x has the tree path x, F(x), ... to a sink;

@@ -2,7 +2,8 @@
  * a 16-bit PNG into DEMs that the independent checker finds pit-free, --stats and
  * --json report the depressions, --verbose cites the paper, and bad input (NaN
  * without --nodata, a lakes mask of the wrong size, a negative limit, an unknown
- * method) exits 2 with a clear message and leaves no output behind. */
+ * method, a planet directory before the planet format exists) exits 2 with a clear
+ * message and leaves no output behind. */
 #include "pg_test.h"
 #include "pits_checker.h"
 #include "planetgen/pg_image.h"
@@ -170,6 +171,8 @@ static void test_bad_input(void **state) {
     expect_exit2(args, "--max-length");
     snprintf(args, sizeof args, "pits --method carve '%s' -o '%s'", ok_in, out);
     expect_exit2(args, "--method");
+    snprintf(args, sizeof args, "pits --stats '%s'", outdir);
+    expect_exit2(args, "planet directories");
     assert_int_equal(pg_test_count_files(outdir), 0); /* nothing left behind */
 }
 
