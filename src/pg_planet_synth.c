@@ -197,12 +197,16 @@ static uint32_t draw_valid(const ctx *c, uint8_t m, uint32_t h) {
 }
 
 /* Gain et al.'s type constraint, applied to the texels of one parity class of a view
- * after their correction: a disallowed texel takes the first allowed coherent
- * candidate S[p+e] - h e (neighbours in a hashed order), else a valid draw. */
+ * after their correction. A disallowed texel is replaced by the allowed candidate
+ * closest in level height to what it had (so the terrain keeps its shape): the
+ * coherent candidates S[p+e] - h e of its 8 neighbours first (a coherent one wins
+ * unless a draw is more than twice as close), then 8 hashed draws among the valid
+ * exemplar texels. */
 static void types_fixup(const ctx *c, int scale, int parity, pg_synth_view *v) {
     static const int nb[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
     const int h = 1 << scale, r = (int)(c->N >> scale), px = parity & 1, py = parity >> 1;
+    const uint64_t seed = c->p->synth.seed;
     for (int y = 0; y < v->h; y++) {
         long gy = v->gy + y;
         if ((int)(gy & 1) != py) continue;
@@ -211,24 +215,28 @@ static void types_fixup(const ctx *c, int scale, int parity, pg_synth_view *v) {
             ptrdiff_t i = (ptrdiff_t)y * v->stride + x;
             uint8_t m = mask_at(c, r, v->face, gx, gy);
             if (allowed(c, m, v->S[i])) continue;
-            uint32_t hs = pg_synth_hash(c->p->synth.seed, scale, v->face, gx, gy, 11);
-            bool done = false;
-            for (int k = 0; k < 8 && !done; k++) {
-                int ex = nb[(hs + k) & 7][0], ey = nb[(hs + k) & 7][1], ox = -ex, oy = -ey;
-                ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
-                if (v->orient && v->orient[j]) pg_synth_orient_apply(v->orient[j], &ox, &oy);
-                uint32_t q = pg_synth_offset(c->ex, v->S[j], h * ox, h * oy);
-                if (allowed(c, m, q)) {
-                    v->S[i] = q;
-                    v->V[i] = v->V[j];
-                    done = true;
+            float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i], best = INFINITY;
+            uint32_t bq = 0;
+            float bv = 0;
+            for (int k = 0; k < 16; k++) {
+                uint32_t q;
+                float vq = 0, w = 1;
+                if (k < 8) {
+                    int ex = nb[k][0], ey = nb[k][1], ox = -ex, oy = -ey;
+                    ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
+                    if (v->orient && v->orient[j]) pg_synth_orient_apply(v->orient[j], &ox, &oy);
+                    q = pg_synth_offset(c->ex, v->S[j], h * ox, h * oy);
+                    vq = v->V[j];
+                    if (!allowed(c, m, q)) continue;
+                } else {
+                    q = draw_valid(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
+                    w = 2;
                 }
+                float d = w * fabsf(pg_synth_level_height(c->ex, scale, q) + vq - want);
+                if (d < best) best = d, bq = q, bv = vq;
             }
-            if (!done) {
-                v->S[i] =
-                    draw_valid(c, m, pg_synth_hash(c->p->synth.seed, scale, v->face, gx, gy, 12));
-                v->V[i] = 0;
-            }
+            v->S[i] = bq;
+            v->V[i] = bv;
         }
     }
 }

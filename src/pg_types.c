@@ -17,7 +17,7 @@
  * exemplar preview that `planetgen generate --verbose` can write.
  *
  * PRESETS (allowed types everywhere): earth = all; desert = desert + mountain;
- * snow = ice + ocean (a frozen world: land under ice, open sea left dark);
+ * snow = ice (a frozen world: land ice sheets, sea under sea ice);
  * grassland = grass + forest + ocean.
  *
  * TYPE MAPS are equirectangular images of type colours (pg_types_colour), plus black
@@ -74,7 +74,7 @@ pg_status pg_types_preset(const char *name, uint8_t *mask, pg_error *err) {
     else if (!strcmp(name, "desert"))
         *mask = BIT(PG_TYPE_DESERT) | BIT(PG_TYPE_MOUNTAIN);
     else if (!strcmp(name, "snow"))
-        *mask = BIT(PG_TYPE_ICE) | BIT(PG_TYPE_OCEAN);
+        *mask = BIT(PG_TYPE_ICE);
     else if (!strcmp(name, "grassland"))
         *mask = BIT(PG_TYPE_GRASS) | BIT(PG_TYPE_FOREST) | BIT(PG_TYPE_OCEAN);
     else
