@@ -73,15 +73,48 @@ static void widen_any(TypeDesc t, const void *src, float *dst, size_t n) {
     }
 }
 
+// The decoder is chosen by the file's magic bytes, not its name, and only among
+// the formats planetgen supports. Letting OpenImageIO try every reader it has on an
+// unknown file is slow (dozens of plugins) and exposes decoders nobody asked for.
+static const char *sniff_format(const char *path) {
+    unsigned char b[12] = {0};
+    FILE *f = std::fopen(path, "rb");
+    if (!f) return nullptr;
+    size_t n = std::fread(b, 1, sizeof b, f);
+    std::fclose(f);
+    if (n >= 8 && !std::memcmp(b, "\x89PNG\r\n\x1a\n", 8)) return "png";
+    if (n >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff) return "jpeg";
+    if (n >= 4 && (!std::memcmp(b, "II*\0", 4) || !std::memcmp(b, "MM\0*", 4) ||
+                   !std::memcmp(b, "II+\0", 4) || !std::memcmp(b, "MM\0+", 4)))
+        return "tiff";
+    if (n >= 4 && b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01) return "openexr";
+    if (n >= 2 && b[0] == 'B' && b[1] == 'M') return "bmp";
+    if (n >= 2 && b[0] == '#' && b[1] == '?') return "hdr";
+    if (n >= 12 && !std::memcmp(b, "RIFF", 4) && !std::memcmp(b + 8, "WEBP", 4)) return "webp";
+    return nullptr;
+}
+
 static pg_status open_input(const char *path, std::unique_ptr<ImageInput> &in, pg_error *err) {
     pg_status st = check_path(path, err);
     if (st == PG_OK) st = pg_image_png_check(path, err);
     if (st != PG_OK) return st;
+    const char *fmt = sniff_format(path);
+    if (!fmt)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: not a readable image (supported: JPEG, PNG, TIFF, OpenEXR, BMP, "
+                            "HDR, WebP)",
+                            path);
     // Alpha is ignored, never applied: ask for the file's unassociated colours,
     // or a PNG with alpha would come back premultiplied.
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
-    in = ImageInput::open(path, &config);
+    in = ImageInput::create(fmt);
+    ImageSpec opened;
+    if (in && !in->open(path, opened, config)) {
+        std::string e = one_line(in->geterror());
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a readable image (%s)", path,
+                            e.empty() ? "cannot open" : e.c_str());
+    }
     if (!in) {
         std::string e = one_line(OIIO::geterror());
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a readable image (%s)", path,
