@@ -53,6 +53,41 @@ static void scan_region(region_scan *r, uint32_t s, pg_pits_stats *st) {
     st->depressions++;
 }
 
+/* Area of the spherical triangle of unit vectors a, b, c (Van Oosterom & Strackee). */
+static double tri_area(const double a[3], const double b[3], const double c[3]) {
+    double bxc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
+                     b[0] * c[1] - b[1] * c[0]};
+    double num = fabs(a[0] * bxc[0] + a[1] * bxc[1] + a[2] * bxc[2]);
+    double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
+                 (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
+                 (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
+    return 2 * atan2(num, den);
+}
+
+pg_status pg_pits_cube_face_areas(pg_cube_projection p, uint32_t n, double radius, double *areas,
+                                  pg_error *err) {
+    pg_cube_grid g;
+    pg_status s = pg_cube_grid_init(&g, p, (int)n, 1, err);
+    if (s) return s;
+#pragma omp parallel for schedule(static)
+    for (int64_t y = 0; y < (int64_t)n; y++)
+        for (int64_t x = 0; x < (int64_t)n; x++) {
+            double c00[3], c10[3], c11[3], c01[3];
+            pg_cube_corner_dir(&g, 0, x, y, c00);
+            pg_cube_corner_dir(&g, 0, x + 1, y, c10);
+            pg_cube_corner_dir(&g, 0, x + 1, y + 1, c11);
+            pg_cube_corner_dir(&g, 0, x, y + 1, c01);
+            areas[y * n + x] =
+                radius * radius * (tri_area(c00, c10, c11) + tri_area(c00, c11, c01));
+        }
+    return PG_OK;
+}
+
+double pg_pits_cube_area_fn(void *ctx, uint32_t id) {
+    const pg_pits_cube_areas *a = ctx;
+    return a->face[id % (a->n * a->n)];
+}
+
 static pg_status fill_copy(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, int eps,
                            float **out, uint64_t *nsinks, pg_error *err) {
     pg_pits_opts f = *o;

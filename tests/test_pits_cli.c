@@ -6,7 +6,10 @@
  * message and leaves no output behind. */
 #include "pg_test.h"
 #include "pits_checker.h"
+#include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_image.h"
+#include "planetgen/pg_pits.h"
+#include "planetgen/pg_planet.h"
 
 #include <stdio.h>
 #include <sys/stat.h>
@@ -172,8 +175,56 @@ static void test_bad_input(void **state) {
     snprintf(args, sizeof args, "pits --method carve '%s' -o '%s'", ok_in, out);
     expect_exit2(args, "--method");
     snprintf(args, sizeof args, "pits --stats '%s'", outdir);
-    expect_exit2(args, "planet directories");
+    expect_exit2(args, "not a planet output");
+    snprintf(args, sizeof args, "pits --method fill '%s' -o '%s'", outdir, out);
+    expect_exit2(args, "--stats only");
     assert_int_equal(pg_test_count_files(outdir), 0); /* nothing left behind */
+}
+
+static const char *in_dir(const char *name, void *user) {
+    static char buf[2048];
+    snprintf(buf, sizeof buf, "%s/%s", (const char *)user, name);
+    return buf;
+}
+
+/* --stats PLANET_DIR counts globally across seams, as the library does. */
+static void test_planet_stats(void **state) {
+    (void)state;
+    pg_exemplar_opts eo;
+    pg_exemplar_opts_default(&eo);
+    pg_exemplar ex;
+    assert_int_equal(pg_exemplar_load(&eo, &ex, NULL), PG_OK);
+    pg_planet p;
+    assert_int_equal(pg_planet_alloc(&p, PG_CUBE_EQUIANGULAR, 2, 64, pg_ellipsoid_sphere(), NULL),
+                     PG_OK);
+    assert_int_equal(pg_planet_from_exemplar(&p, &ex, 2, NULL), PG_OK);
+    p.sea_level = 0;
+    char pdir[1200], args[4096], so[8192], se[4096];
+    snprintf(pdir, sizeof pdir, "%s/planet", dir);
+    mkdir(pdir, 0755);
+    assert_int_equal(pg_planet_save(&p, in_dir, pdir, NULL), PG_OK);
+    /* the library's count */
+    size_t nn = (size_t)p.n * p.n;
+    float *h = malloc(6 * nn * sizeof *h);
+    for (int f = 0; f < 6; f++)
+        memcpy(h + f * nn, p.height[f], nn * sizeof *h);
+    pg_pits_topo t;
+    pg_pits_topo_cube(&t, (uint32_t)p.n, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = true;
+    o.sea_level = 0;
+    pg_pits_stats st;
+    assert_int_equal(pg_pits_stats_compute(&t, h, &o, NULL, &st, NULL), PG_OK);
+    assert_true(st.depressions > 0);
+    snprintf(args, sizeof args, "pits --stats '%s' --json '%s/p.json'", pdir, dir);
+    assert_int_equal(pg_test_run_cli(args, so, sizeof so, se, sizeof se), 0);
+    char want[64];
+    snprintf(want, sizeof want, " %llu depressions", (unsigned long long)st.depressions);
+    assert_non_null(strstr(so, want));
+    free(h);
+    pg_planet_free(&p);
+    pg_exemplar_free(&ex);
 }
 
 int main(void) {
@@ -181,6 +232,7 @@ int main(void) {
         cmocka_unit_test(test_methods_exr),
         cmocka_unit_test(test_png16),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_planet_stats),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -210,6 +210,24 @@ static void test_gain_pit_offsets(void **state) {
     free(Rp);
 }
 
+/* Texel areas tile the sphere: 6 faces sum to 4 pi R^2, and texels differ in size. */
+static void test_face_areas(void **state) {
+    (void)state;
+    uint32_t n = 64;
+    double *a = malloc(sizeof(double) * n * n), sum = 0, lo = INFINITY, hi = 0;
+    assert_int_equal(pg_pits_cube_face_areas(PG_CUBE_EQUIANGULAR, n, 1000.0, a, NULL), PG_OK);
+    for (uint32_t i = 0; i < n * n; i++) {
+        sum += a[i];
+        lo = fmin(lo, a[i]);
+        hi = fmax(hi, a[i]);
+    }
+    assert_true(fabs(6 * sum - 4 * M_PI * 1e6) < 1e-9 * 4 * M_PI * 1e6);
+    assert_true(hi / lo > 1.1);
+    pg_pits_cube_areas ca = {a, n};
+    assert_true(pg_pits_cube_area_fn(&ca, 5 * n * n + 7) == a[7]);
+    free(a);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_topology_matches_geometry),
@@ -217,6 +235,7 @@ int main(void) {
         cmocka_unit_test(test_corner_depression),
         cmocka_unit_test(test_no_ocean_drains_to_lowest),
         cmocka_unit_test(test_gain_pit_offsets),
+        cmocka_unit_test(test_face_areas),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

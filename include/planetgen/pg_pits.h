@@ -167,6 +167,20 @@ typedef struct pg_pits_stats {
     uint64_t sinks;
 } pg_pits_stats;
 
+/* Areas (m^2) of the n x n texels of one cube face on a sphere of the given radius,
+ * as spherical quadrilaterals between the texel corners of projection p; every face
+ * has the same areas (the projections share the cube's symmetry). Pass them to the
+ * statistics as an area callback with pg_pits_cube_area_fn and ctx = the array. */
+pg_status pg_pits_cube_face_areas(pg_cube_projection p, uint32_t n, double radius, double *areas,
+                                  pg_error *err);
+/* ctx: the n*n array from pg_pits_cube_face_areas; id: a global texel id. The face
+ * size comes from the array's length, so ctx must be a pg_pits_cube_areas. */
+typedef struct pg_pits_cube_areas {
+    const double *face; /* n*n */
+    uint32_t n;
+} pg_pits_cube_areas;
+double pg_pits_cube_area_fn(void *ctx, uint32_t id);
+
 /* Count the depressions of h without changing it. The sinks come from o (sea level,
  * lakes, edges, nodata; method and epsilon are ignored). A depression is a connected
  * region raised by the minimal fill; its area and volume are measured against the

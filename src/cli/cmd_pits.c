@@ -3,7 +3,7 @@
  *   planetgen pits --method fill|breach|hybrid [--epsilon] [--max-depth D]
  *                  [--max-length L] [--sea-level H] [--lakes MASK] [--nodata V]
  *                  [--closed-edges] IN -o OUT
- *   planetgen pits --stats FILE [--json F]
+ *   planetgen pits --stats FILE|PLANET_DIR [--json F]
  *
  * It lets GIS users run the pit-removal module (pg_pits.h) on its own. Inputs are
  * any image OpenImageIO reads (GeoTIFF, EXR, 16-bit PNG, ...), taken as raw heights;
@@ -16,6 +16,7 @@
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_pits.h"
+#include "planetgen/pg_planet.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -45,8 +46,8 @@ static pg_status read_dem(const char *path, const char *what, pg_image *img, pg_
     struct stat sb;
     if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
         return pg_error_set(err, PG_ERR_BADINPUT,
-                            "%s %s: a directory (planet directories are not supported yet)", what,
-                            path);
+                            "%s %s: a directory (planet directories are read by --stats only)",
+                            what, path);
     pg_status s = pg_image_read(path, 0, img, err);
     if (s) return s;
     if (img->channels != 1) {
@@ -154,7 +155,63 @@ static pg_status check_output(const pits_args *a, const pg_image *img, pg_error 
     return PG_OK;
 }
 
+static bool is_dir(const char *path) {
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* The planet's heights as one cube array (global texel ids). */
+static pg_status planet_heights(const pg_planet *p, float **out, pg_error *err) {
+    size_t nn = (size_t)p->n * (size_t)p->n;
+    float *h = malloc(6 * nn * sizeof *h);
+    if (!h) return pg_error_set(err, PG_ERR_NOMEM, "--stats: out of memory for the planet");
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        memcpy(h + f * nn, p->height[f], nn * sizeof *h);
+    *out = h;
+    return PG_OK;
+}
+
+/* --stats PLANET_DIR: one global count over all faces, true texel areas. */
+static int run_planet_stats(pg_cli *cli, const pits_args *a) {
+    pg_error err = {0};
+    pg_planet p;
+    if (pg_planet_load(a->stats, &p, &err)) return pg_cli_fail(cli, &err);
+    if (a->lakes) {
+        pg_planet_free(&p);
+        pg_error_set(&err, PG_ERR_BADINPUT, "--lakes: not supported with a planet directory");
+        return pg_cli_fail(cli, &err);
+    }
+    pits_args pa = *a;
+    if (isnan(pa.sea_level)) pa.sea_level = p.sea_level;
+    pa.closed_edges = true; /* a sphere has no edges */
+    pg_pits_opts o;
+    set_opts(&pa, NULL, &o);
+    pg_cli_stage_begin(cli, "count depressions on the planet");
+    pg_pits_topo t;
+    pg_pits_stats st;
+    float *h = NULL;
+    double *face = malloc((size_t)p.n * (size_t)p.n * sizeof *face);
+    pg_pits_cube_areas ca = {face, (uint32_t)p.n};
+    pg_pits_area area = {NULL, pg_pits_cube_area_fn, &ca, 0};
+    pg_status s = face ? PG_OK : pg_error_set(&err, PG_ERR_NOMEM, "--stats: out of memory");
+    if (!s) s = pg_pits_topo_cube(&t, (uint32_t)p.n, &err);
+    if (!s) /* the authalic radius of the ellipsoid, to first order in f */
+        s = pg_pits_cube_face_areas(p.projection, (uint32_t)p.n,
+                                    p.ellipsoid.a * (1 - p.ellipsoid.f / 3), face, &err);
+    if (!s) s = planet_heights(&p, &h, &err);
+    if (!s) s = pg_pits_stats_compute(&t, h, &o, &area, &st, &err);
+    free(h);
+    free(face);
+    pg_planet_free(&p);
+    if (s) return pg_cli_fail(cli, &err);
+    pg_cli_stage_end(cli);
+    pg_json *r = pg_cli_report(cli);
+    report_stats(cli, "stats", &st, r ? pg_json_set_object(r, "results") : NULL);
+    return pg_cli_finish(cli);
+}
+
 static int run_stats(pg_cli *cli, const pits_args *a) {
+    if (is_dir(a->stats)) return run_planet_stats(cli, a);
     pg_error err = {0};
     pg_image img;
     uint8_t *lakes = NULL;
@@ -272,7 +329,7 @@ int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
         {"--no-stats", NULL, PG_OPT_FLAG, &a.no_stats, 0, 0, NULL, NULL,
          "skip counting depressions before and after"},
         {"--stats", NULL, PG_OPT_STRING, &a.stats, 0, 0, NULL, "FILE",
-         "only count the depressions of FILE"},
+         "only count the depressions of FILE, or of a planet directory (globally)"},
         {"--output", "-o", PG_OPT_STRING, &a.out, 0, 0, NULL, "OUT", "output DEM (.exr or .png)"},
         PG_OPT_END};
     const char *pos[2];
@@ -283,7 +340,7 @@ int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
     if (done) {
         pg_cli_print_help(cli,
                           "--method fill|breach|hybrid [OPTIONS] IN -o OUT\n"
-                          "       planetgen pits --stats FILE [--json F]",
+                          "       planetgen pits --stats FILE|PLANET_DIR [--json F]",
                           "Remove pits (closed depressions) from a flat DEM so that every cell "
                           "drains to an outlet,\nor count them with --stats. See docs/pits.md.",
                           opts, stdout);
