@@ -153,7 +153,8 @@ typedef struct corr_ctx {
     float m2q;   /* metres -> quantized appearance units of component 1 */
     float kappa; /* jump penalty factor - 1 */
     bool offsets;
-    float lambda; /* offset penalty */
+    float lambda;                  /* offset penalty */
+    float mask[PG_SYNTH_MAX_DIMS]; /* 1 for components 2..dims, else 0 */
 } corr_ctx;
 
 static inline const int16_t *app_at(const corr_ctx *c, uint32_t q) {
@@ -239,17 +240,19 @@ static void gather_candidates(const corr_ctx *c, const nbhd *n, cand_list *l) {
 /* Distance of candidate q to the target, with its best height offset in *hoff. */
 static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], uint32_t q,
                        float *hoff) {
-    float d1[ND], rest = 0, mean = 0;
+    /* fixed 8-lane loops (component 1 and unused components masked out) vectorise */
+    float d1[ND], acc[PG_SYNTH_MAX_DIMS] = {0}, mean = 0;
     for (int d = 0; d < ND; d++) {
         const int16_t *a =
             app_at(c, pg_synth_offset(c->ex, q, c->h * diag[d][0], c->h * diag[d][1]));
         d1[d] = ns[d][0] - a[0];
         mean += d1[d];
-        for (int i = 1; i < c->dims; i++) {
-            float t = ns[d][i] - a[i];
-            rest += t * t;
+        for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++) {
+            float t = (ns[d][i] - (float)a[i]) * c->mask[i];
+            acc[i] += t * t;
         }
     }
+    float rest = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
     /* argmin over h of sum (d1 - h)^2 + lambda ND h^2 is mean(d1) / (1 + lambda) */
     mean = c->offsets ? mean * (1.0f / ND) / (1.0f + c->lambda) : 0.0f;
     float first = c->lambda * ND * mean * mean;
@@ -310,7 +313,11 @@ static void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V
     *V = best_h / c->m2q;
 }
 
-static void correct_batch(const corr_ctx *c, const pg_synth_view *v, int y, int x0, int cnt) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+static void
+correct_batch(const corr_ctx *c, const pg_synth_view *v, int y, int x0, int cnt) {
     texel_work w[BATCH];
     for (int i = 0; i < cnt; i++) {
         load_nbhd(v, x0 + 2 * i, y, &w[i].n);
@@ -340,6 +347,8 @@ void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_s
                   .kappa = (float)p->kappa,
                   .offsets = p->height_offsets,
                   .lambda = (float)p->offset_penalty};
+    for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+        c.mask[i] = i >= 1 && i < ex->dims ? 1.0f : 0.0f;
     const int px = parity & 1, py = parity >> 1;
 #pragma omp parallel for schedule(dynamic, 4) if (v->w * v->h >= 16384)
     for (int y = 0; y < v->h; y++) {
