@@ -16,6 +16,7 @@ typedef struct pg_command {
 
 static const pg_command pg_commands[] = {
     {"exemplar", pg_cmd_exemplar, "load an exemplar, print its statistics, write previews"},
+    {"export", pg_cmd_export, "export a planet: glTF globe, EXR heights, previews"},
     {"generate", pg_cmd_generate, "synthesize a whole planet by example on the cube sphere"},
     {"grid", pg_cmd_grid, "describe a cube-sphere grid: counts, texel areas, distortion"},
     {"inspect", pg_cmd_inspect, "realism report of a planet: LPIPS-style poles, seams, pits"},
