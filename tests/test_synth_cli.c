@@ -63,7 +63,7 @@ static void test_constant_exemplar(void **state) {
 static void test_small_run_writes_outputs(void **state) {
     (void)state;
     char dir[512], args[1024], p[600];
-    pg_test_scratch_dir("synth-cli-ok", dir, sizeof dir);
+    pg_test_scratch_dir("synth-cli-ok", dir, sizeof dir); /* exits if PG_BUILD_DIR is unset */
     /* the prepared default exemplar is shared with test_synth_quality through this cache */
     snprintf(args, sizeof args, "synth --size 64 --seed 3 -o %s/o --cache-dir %s/synth-cache", dir,
              getenv("PG_BUILD_DIR"));

@@ -40,7 +40,12 @@ static int setup(void **state) {
         return -1;
     }
     char dir[512];
-    snprintf(dir, sizeof dir, "%s/synth-cache", getenv("PG_BUILD_DIR"));
+    const char *build = getenv("PG_BUILD_DIR");
+    if (!build) {
+        fprintf(stderr, "PG_BUILD_DIR is not set (run under ctest)\n");
+        return -1;
+    }
+    snprintf(dir, sizeof dir, "%s/synth-cache", build);
     pg_synth_exemplar_params ep;
     pg_synth_exemplar_params_default(&ep);
     pg_synth_prep_info info;
