@@ -18,6 +18,7 @@
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,12 +29,12 @@
 
 static pg_synth_exemplar *ex;
 static pg_synth_result res;
+static pg_exemplar src; /* kept for the small-cube preparation test */
 
 static int setup(void **state) {
     (void)state;
     pg_exemplar_opts eo;
     pg_exemplar_opts_default(&eo);
-    pg_exemplar src;
     pg_error err = {0};
     if (pg_exemplar_load(&eo, &src, &err) != PG_OK) {
         fprintf(stderr, "%s\n", err.msg);
@@ -51,7 +52,6 @@ static int setup(void **state) {
     pg_synth_prep_info info;
     pg_status st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height,
                                              src.sea_level, &ep, dir, &ex, &info, &err);
-    pg_exemplar_free(&src);
     if (st != PG_OK) {
         fprintf(stderr, "%s\n", err.msg);
         return -1;
@@ -65,7 +65,54 @@ static int teardown(void **state) {
     (void)state;
     pg_synth_result_free(&res);
     pg_synth_exemplar_free(ex);
+    pg_exemplar_free(&src);
     return 0;
+}
+
+/* On the real cube exemplar (coordinates wrapping across exemplar seams), 1 thread
+ * whole-level and 2 threads in 64-texel tiles give the same bytes. */
+static void test_cube_threads_and_tiles(void **state) {
+    (void)state;
+    pg_synth_params p;
+    pg_synth_params_default(&p);
+    p.seed = 5;
+    pg_synth_result a, b;
+    pg_error err = {0};
+    omp_set_num_threads(1);
+    assert_int_equal(pg_synth_flat(ex, 256, &p, NULL, NULL, &a, &err), PG_OK);
+    omp_set_num_threads(2);
+    p.tile_size = 64;
+    assert_int_equal(pg_synth_flat(ex, 256, &p, NULL, NULL, &b, &err), PG_OK);
+    assert_memory_equal(a.coords, b.coords, 256 * 256 * 4);
+    assert_memory_equal(a.offset, b.offset, 256 * 256 * 4);
+    pg_synth_result_free(&a);
+    pg_synth_result_free(&b);
+}
+
+/* Preparation (PCA sums, per-face PatchMatch) is thread-count independent: a small
+ * cube (E = 64) prepared with 1 and with 2 threads has identical tables. */
+static void test_prepare_threads(void **state) {
+    (void)state;
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    ep.face_size = 64;
+    ep.levels = 3;
+    pg_synth_exemplar *e[2];
+    pg_synth_prep_info info;
+    pg_error err = {0};
+    for (int t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        assert_int_equal(pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height,
+                                                   src.sea_level, &ep, "", &e[t], &info, &err),
+                         PG_OK);
+    }
+    size_t n = (size_t)6 * 64 * 64;
+    for (int s = 0; s < ep.levels; s++) {
+        assert_memory_equal(e[0]->app[s], e[1]->app[s], n * PG_SYNTH_MAX_DIMS * 2);
+        assert_memory_equal(e[0]->kcoh[s], e[1]->kcoh[s], n * 4);
+    }
+    pg_synth_exemplar_free(e[0]);
+    pg_synth_exemplar_free(e[1]);
 }
 
 /* ---- appearance vectors from images ---- */
@@ -277,6 +324,8 @@ int main(void) {
         cmocka_unit_test(test_neighbourhood_fidelity),
         cmocka_unit_test(test_histograms),
         cmocka_unit_test(test_coherent_patches),
+        cmocka_unit_test(test_cube_threads_and_tiles),
+        cmocka_unit_test(test_prepare_threads),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
