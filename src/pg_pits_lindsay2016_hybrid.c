@@ -73,7 +73,10 @@ static void visit(hybrid *s, uint32_t c, int c_filled, uint32_t n, pits_heap *q,
         pits_heap_push(q, pits_key(hn, n));
         return;
     }
-    int in_pit = hn < hc;
+    /* a pit is lower than c was before any epsilon rise: the ulps given to a flat
+     * must not make the next flat cell look like a pit (that would carve channels
+     * of ulps, one walk per flat cell) */
+    int in_pit = hn < fminf(hc, s->orig[c]);
     if (in_pit && !c_filled && channel_fits(s, c, hn)) {
         carve(s, c, hn);
         s->breaches++;

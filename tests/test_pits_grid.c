@@ -177,6 +177,47 @@ static void test_hybrid_limits(void **state) {
     }
 }
 
+/* A pit whose breach channel is exactly 5 cells long: a corridor of 10 m between the
+ * sea (x = 0) and the pit (x = 6), walls of 20 m. max_length 4 must fill it, 5 may
+ * carve it; max_depth 8.9 (the channel needs 9 m: 10 m down to the pit at 1 m)
+ * must fill it too. */
+static void test_hybrid_length_limit(void **state) {
+    (void)state;
+    float dem[27];
+    for (int i = 0; i < 27; i++)
+        dem[i] = 20.0f;
+    dem[9] = -1.0f; /* sea */
+    for (int x = 1; x <= 5; x++)
+        dem[9 + x] = 10.0f;
+    dem[9 + 6] = 1.0f; /* the pit (above the sea level 0) */
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, 9, 3, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.method = PG_PITS_HYBRID;
+    o.epsilon = false; /* so the walls' flats stay exactly as they are */
+    o.has_sea_level = true;
+    o.sea_level = 0;
+    double lengths[3] = {4, 5, 5}, depths[3] = {INFINITY, INFINITY, 8.9};
+    for (int k = 0; k < 3; k++) {
+        float h[27];
+        memcpy(h, dem, sizeof h);
+        o.max_length = lengths[k];
+        o.max_depth = depths[k];
+        pg_pits_result r;
+        assert_int_equal(pg_pits_remove(&t, h, &o, &r, NULL), PG_OK);
+        if (k == 1) { /* carved: the 5 corridor cells go below the pit, nothing rises */
+            assert_int_equal(r.lowered, 5);
+            assert_int_equal(r.raised, 0);
+            for (int x = 1; x <= 5; x++)
+                assert_true(h[9 + x] < 1.0f);
+        } else { /* filled: the pit rises to the corridor, nothing is carved */
+            assert_int_equal(r.lowered, 0);
+            assert_true(h[15] >= 10.0f);
+        }
+    }
+}
+
 /* Results do not depend on the thread count. */
 static void test_thread_invariance(void **state) {
     (void)state;
@@ -281,11 +322,9 @@ static void test_bad_input_and_nodata(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_all_methods_drain),
-        cmocka_unit_test(test_exact_fill),
-        cmocka_unit_test(test_hybrid_limits),
-        cmocka_unit_test(test_thread_invariance),
-        cmocka_unit_test(test_stats),
+        cmocka_unit_test(test_all_methods_drain),    cmocka_unit_test(test_exact_fill),
+        cmocka_unit_test(test_hybrid_limits),        cmocka_unit_test(test_hybrid_length_limit),
+        cmocka_unit_test(test_thread_invariance),    cmocka_unit_test(test_stats),
         cmocka_unit_test(test_bad_input_and_nodata),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
