@@ -104,14 +104,16 @@ typedef struct pg_pits_opts {
     /* epsilon: every non-sink cell gets a strictly descending path to a sink (no
      * flats). Without it, paths never ascend (plain fill is the minimal fill). */
     bool epsilon;
-    double max_depth;  /* hybrid: deepest allowed breach channel, height units (>= 0) */
-    double max_length; /* hybrid: longest allowed breach channel, cells (>= 0) */
+    double max_depth;  /* hybrid: no cell lowered more than this below its original
+                          height, height units (>= 0) */
+    double max_length; /* hybrid: most cells one breach channel may lower (>= 0) */
     bool has_sea_level;
     double sea_level;     /* cells <= sea_level are ocean sinks */
     const uint8_t *lakes; /* optional, ncells bytes, nonzero = lake sink */
     bool open_edges;      /* grid only: border cells are outlets (GIS convention) */
-    bool has_nodata;      /* cells == nodata (or NaN) are sinks, left unchanged; */
-    float nodata;         /* without has_nodata, NaN cells are PG_ERR_BADINPUT */
+    bool has_nodata;      /* cells == nodata (or NaN) are sinks, left unchanged (NaN */
+    float nodata;         /* cells come back as nodata); without has_nodata, NaN cells
+                             are PG_ERR_BADINPUT */
     /* Plain fill runs the tiled parallel Priority-Flood (Barnes 2016) when more than
      * one OpenMP thread is available or tile_rows > 0 (rows per tile; 0 = automatic).
      * Its result is bit-identical to the serial fill. Thread count: OpenMP's. */
@@ -132,7 +134,7 @@ const char *pg_pits_method_citation(pg_pits_method m);
 typedef struct pg_pits_result {
     uint64_t raised, lowered; /* cells changed upward / downward */
     uint64_t sinks;           /* cells that acted as outlets */
-    uint64_t breaches, fills; /* hybrid: pits breached / pits filled */
+    uint64_t breaches, fills; /* hybrid: channels carved / depressions filled */
     double max_raise, max_lower;
 } pg_pits_result;
 
