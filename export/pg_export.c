@@ -235,6 +235,15 @@ static pg_status write_glb(const pg_planet *p, const pg_cube_grid *g, const pg_e
     pg_status st = PG_OK;
     for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++)
         st = encode_face(p, g, mesh, o, lo, scale, f, gi, err);
+    double embedded = 0; /* bytes of the binary chunk: images plus the mesh */
+    for (int k = 0; k < 3 * PG_CUBE_NFACES; k++)
+        embedded += (double)gi->img[k].size;
+    embedded += 6.0 * mesh->nv * 12 * sizeof(float) + mesh->ni * sizeof(uint32_t);
+    if (st == PG_OK && !o->external_textures && embedded > 4.0e9) /* the .glb limit: 2^32 */
+        st = pg_error_set(err, PG_ERR_BADINPUT,
+                          "%s: %.1f GB of textures do not fit a .glb (4 GiB at most); use "
+                          "--external-textures",
+                          PG_EXPORT_GLB_NAME, embedded / 1e9);
     for (int k = 0; st == PG_OK && k < 3 * PG_CUBE_NFACES; k++) {
         gi->img[k].bytes = gi->bytes[k];
         if (!o->external_textures) continue;

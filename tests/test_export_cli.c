@@ -78,8 +78,28 @@ static void test_replace_and_previews(void **s) {
     }
 }
 
+/* Results do not depend on the thread count: the .glb and the previews are
+ * byte-identical with 1 and 2 threads. */
+static void test_thread_count_invariant(void **s) {
+    (void)s;
+    char dir[1024], args[4096];
+    fixture_planet_dir("export_cli_threads", 2, 32, dir, sizeof dir);
+    const char *files[] = {"planet.glb", "globe_north.png", "relief.png", "height.exr"};
+    for (int t = 1; t <= 2; t++) {
+        snprintf(args, sizeof args, "export '%s' -o '%s/t%d' --threads %d -q", dir, dir, t, t);
+        assert_int_equal(pg_test_run_cli(args, NULL, 0, NULL, 0), 0);
+    }
+    for (int i = 0; i < 4; i++) {
+        char cmd[4096];
+        snprintf(cmd, sizeof cmd, "cmp -s '%s/t1/%s' '%s/t2/%s'", dir, files[i], dir, files[i]);
+        assert_int_equal(fixture_sh(cmd, NULL, 0), 0);
+        printf("%s identical with 1 and 2 threads\n", files[i]);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_bad_input),
-                                       cmocka_unit_test(test_replace_and_previews)};
+                                       cmocka_unit_test(test_replace_and_previews),
+                                       cmocka_unit_test(test_thread_count_invariant)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
