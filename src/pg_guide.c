@@ -50,7 +50,7 @@ pg_status pg_guide_load(const char *path, pg_guide *g, pg_error *err) {
     for (size_t i = 0; i < n; i++) {
         float s = 0;
         for (int k = 0; k < ch; k++)
-            s += img.data[i * img.channels + k];
+            s += img.data[i * img.channels + k] * img.unit_scale;
         float grey = s / (float)ch;
         grey = grey < 0 ? 0 : (grey > 1 ? 1 : grey);
         g->metres[i] = (float)(PG_GUIDE_LOW_M + grey * (PG_GUIDE_HIGH_M - PG_GUIDE_LOW_M));

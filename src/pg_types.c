@@ -104,7 +104,7 @@ static void list_unknown(const pg_image *img, char *buf, size_t size, size_t *co
     for (size_t i = 0; i < (size_t)img->width * img->height; i++) {
         uint8_t c[3];
         for (int k = 0; k < 3; k++) {
-            float v = img->data[i * img->channels + (img->channels >= 3 ? k : 0)];
+            float v = img->data[i * img->channels + (img->channels >= 3 ? k : 0)] * img->unit_scale;
             c[k] = (uint8_t)(v <= 0 ? 0 : v >= 1 ? 255 : v * 255.0f + 0.5f);
         }
         if (colour_mask(c)) continue;
@@ -147,7 +147,7 @@ pg_status pg_types_map_load(const char *path, pg_types_map *m, pg_error *err) {
     for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
         uint8_t c[3];
         for (int k = 0; k < 3; k++) {
-            float v = img.data[i * img.channels + (img.channels >= 3 ? k : 0)];
+            float v = img.data[i * img.channels + (img.channels >= 3 ? k : 0)] * img.unit_scale;
             c[k] = (uint8_t)(v <= 0 ? 0 : v >= 1 ? 255 : v * 255.0f + 0.5f);
         }
         m->mask[i] = colour_mask(c);
