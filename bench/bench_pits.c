@@ -9,9 +9,11 @@
  *
  * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats]
  *                   [--only PREFIX]   (e.g. --only "fill (plain)")
- *        bench_pits --synth   (Gain-pit's share of a 1024^2 flat synthesis) */
+ *        bench_pits --synth [--images DIR]   (Gain-pit's share of a 1024^2 flat
+ *        synthesis; DIR gets shaded reliefs of both runs, depressions in red) */
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_image.h"
 #include "planetgen/pg_pits.h"
 #include "planetgen/pg_pits_synth.h"
 
@@ -133,12 +135,49 @@ static void bench(const char *label, const pg_pits_topo *t, const float *dem, do
     free(b);
 }
 
+/* A hill-shaded grey image of h (cell size `cell` metres, lit from the north-west)
+ * with the cells a fill would raise (depressions) tinted red; written as PNG. */
+static void write_shaded(const char *path, const float *h, int n, double cell) {
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, (uint32_t)n, (uint32_t)n, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.method = PG_PITS_FILL;
+    o.epsilon = false;
+    o.open_edges = true;
+    o.has_sea_level = true;
+    o.sea_level = 0;
+    float *f = malloc(sizeof(float) * n * n);
+    memcpy(f, h, sizeof(float) * n * n);
+    pg_pits_remove(&t, f, &o, NULL, NULL);
+    pg_image img;
+    if (pg_image_alloc(&img, n, n, 3, NULL) == PG_OK) {
+        for (int y = 0; y < n; y++)
+            for (int x = 0; x < n; x++) {
+                int xl = x > 0 ? x - 1 : x, xr = x < n - 1 ? x + 1 : x;
+                int yu = y > 0 ? y - 1 : y, yd = y < n - 1 ? y + 1 : y;
+                double dx = (h[y * n + xr] - h[y * n + xl]) / ((xr - xl) * cell);
+                double dy = (h[yd * n + x] - h[yu * n + x]) / ((yd - yu) * cell);
+                double shade = (1 + (dx + dy) * -0.7071 * 8) / sqrt(1 + 64 * (dx * dx + dy * dy));
+                float g = (float)fmin(1, fmax(0, 0.15 + 0.75 * shade));
+                int pit = f[y * n + x] > h[y * n + x], sea = h[y * n + x] <= 0;
+                float *px = &img.data[((size_t)y * n + x) * 3];
+                px[0] = pit ? 0.6f + 0.4f * g : sea ? 0.3f * g : g;
+                px[1] = pit ? 0.2f * g : sea ? 0.4f * g : g;
+                px[2] = pit ? 0.2f * g : sea ? 0.7f * g : g;
+            }
+        pg_image_write_png(path, &img, 8, NULL);
+        pg_image_free(&img);
+    }
+    free(f);
+}
+
 /* The cost of Gain-pit inside the synthesis: a 256^2 crop of the relief (Himalaya)
  * as a toroidal exemplar, a flat N x N synthesis with and without the hook. */
-static void bench_synth(const float *dem, int w, int n) {
+static void bench_synth(const float *dem, int w, int n, const char *images) {
     enum { E = 256 };
     float *h = malloc(sizeof(float) * E * E), *rgb = malloc(sizeof(float) * E * E * 3);
-    int x0 = w * 80 / 360, y0 = w / 2 * 58 / 180; /* about 80 E, 32 N */
+    int x0 = w * (80 + 180) / 360, y0 = w / 2 * 58 / 180; /* about 80 E, 32 N */
     for (int y = 0; y < E; y++)
         for (int x = 0; x < E; x++) {
             float v = dem[(size_t)(y0 + y) * w + x0 + x];
@@ -175,6 +214,15 @@ static void bench_synth(const float *dem, int w, int n) {
             printf(", pit removal %.2f s = %.1f%% (%llu passes)", gp.seconds,
                    100 * gp.seconds / sec, (unsigned long long)gp.runs);
         printf("\n");
+        if (images) { /* the raw synthesized heights, before any final pass */
+            float *hh = malloc(sizeof(float) * n * n);
+            pg_synth_render(ex, r.coords, r.offset, (size_t)n * n, NULL, hh);
+            char path[1024];
+            snprintf(path, sizeof path, "%s/pits_gainpit_%s.png", images, with ? "on" : "off");
+            write_shaded(path, hh, n, 40075017.0 / w);
+            printf("  wrote %s\n", path);
+            free(hh);
+        }
         pg_synth_result_free(&r);
     }
     pg_synth_exemplar_free(ex);
@@ -184,7 +232,8 @@ static void bench_synth(const float *dem, int w, int n) {
 
 int main(int argc, char **argv) {
     int synthetic = 0, flat = 1, planet = 1, stats = 1, synth = 0;
-    const char *only = NULL; /* run only the methods whose name starts with this */
+    const char *only = NULL;   /* run only the methods whose name starts with this */
+    const char *images = NULL; /* --synth: write shaded reliefs of both runs here */
     long N = 2048;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--synthetic"))
@@ -201,6 +250,8 @@ int main(int argc, char **argv) {
             only = argv[++i];
         else if (!strcmp(argv[i], "--synth"))
             synth = 1, flat = planet = 0;
+        else if (!strcmp(argv[i], "--images") && i + 1 < argc)
+            images = argv[++i];
         else {
             fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] "
                             "[--no-stats] [--only PREFIX]\n");
@@ -232,7 +283,7 @@ int main(int argc, char **argv) {
         dem = fractal(w, h);
         printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
     }
-    if (synth) bench_synth(dem, w, 1024);
+    if (synth) bench_synth(dem, w, 1024, images);
     pg_pits_topo t;
     if (flat) {
         pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
