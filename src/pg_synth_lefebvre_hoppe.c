@@ -61,6 +61,15 @@ static uint32_t offset_across_seam(const pg_synth_exemplar *ex, int face, int u,
     return pg_synth_pack((int)(id / per), (int)(id % per % E), (int)(id % per / E));
 }
 
+/* The hot path of pg_synth_offset, inlined into the correction loops. */
+static inline uint32_t offs(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
+    const int E = ex->face_size;
+    int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
+    if ((unsigned)u < (unsigned)E && (unsigned)v < (unsigned)E)
+        return (c & 0xf0000000u) | ((uint32_t)v << 14) | (uint32_t)u;
+    return pg_synth_offset(ex, c, du, dv);
+}
+
 uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
     const int E = ex->face_size;
     int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
@@ -185,7 +194,7 @@ static void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
 static inline uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox, int oy) {
     int k = (ey + 1) * 3 + (ex + 1);
     if (n->o[k]) pg_synth_orient_apply(n->o[k], &ox, &oy);
-    return pg_synth_offset(c->ex, n->S[k], c->h * ox, c->h * oy);
+    return offs(c->ex, n->S[k], c->h * ox, c->h * oy);
 }
 
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
@@ -237,35 +246,43 @@ static void gather_candidates(const corr_ctx *c, const nbhd *n, cand_list *l) {
     }
 }
 
-/* Distance of candidate q to the target, with its best height offset in *hoff. */
+static inline float lane_sum(const float *acc) {
+    return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+}
+
+/* Distance of candidate q to the target (times its penalty pen), with its best height
+ * offset in *hoff. Returns +inf as soon as the partial sum shows it cannot be < limit:
+ * the lanes only grow, the height term is >= 0 and pen > 0, so the skip is exact, and
+ * it saves the random reads of the remaining diagonals of hopeless candidates. */
 static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], uint32_t q,
-                       float *hoff) {
+                       float pen, float limit, float *hoff) {
     /* fixed 8-lane loops (component 1 and unused components masked out) vectorise */
     float d1[ND], acc[PG_SYNTH_MAX_DIMS] = {0}, mean = 0;
     for (int d = 0; d < ND; d++) {
-        const int16_t *a =
-            app_at(c, pg_synth_offset(c->ex, q, c->h * diag[d][0], c->h * diag[d][1]));
+        const int16_t *a = app_at(c, offs(c->ex, q, c->h * diag[d][0], c->h * diag[d][1]));
         d1[d] = ns[d][0] - a[0];
         mean += d1[d];
         for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++) {
             float t = (ns[d][i] - (float)a[i]) * c->mask[i];
             acc[i] += t * t;
         }
+        if (d < ND - 1 && lane_sum(acc) * pen >= limit) return INFINITY;
     }
-    float rest = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    float rest = lane_sum(acc);
     /* argmin over h of sum (d1 - h)^2 + lambda ND h^2 is mean(d1) / (1 + lambda) */
     mean = c->offsets ? mean * (1.0f / ND) / (1.0f + c->lambda) : 0.0f;
     float first = c->lambda * ND * mean * mean;
     for (int d = 0; d < ND; d++)
         first += (d1[d] - mean) * (d1[d] - mean);
     *hoff = mean;
-    return first + rest;
+    return (first + rest) * pen;
 }
 
 /* Texels are corrected in small batches, phase by phase, with prefetches issued one
  * phase ahead: the work is bound by the latency of random reads of appearance vectors
- * and k-coherence entries, and a batch keeps many of them in flight. Texels of one
- * parity class never read each other, so batching changes no result. */
+ * and k-coherence entries, and a batch keeps many of them in flight (removing the
+ * prefetches costs ~1.5x). Texels of one parity class never read each other, so
+ * batching changes no result. */
 #define BATCH 8
 
 typedef struct texel_work {
@@ -295,14 +312,15 @@ static void prefetch_targets(const corr_ctx *c, const nbhd *n) {
 static void prefetch_candidates(const corr_ctx *c, const cand_list *l) {
     for (int i = 0; i < l->n; i++)
         for (int d = 0; d < ND; d++)
-            prefetch_app(c, pg_synth_offset(c->ex, l->q[i], c->h * diag[d][0], c->h * diag[d][1]));
+            prefetch_app(c, offs(c->ex, l->q[i], c->h * diag[d][0], c->h * diag[d][1]));
 }
 
 static void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V) {
     uint32_t best = w->l.q[0];
     float best_h = 0, best_d = 0;
     for (int i = 0; i < w->l.n; i++) {
-        float hq, d = cand_dist(c, w->ns, w->l.q[i], &hq) * w->l.pen[i];
+        float hq = 0,
+              d = cand_dist(c, w->ns, w->l.q[i], w->l.pen[i], i == 0 ? INFINITY : best_d, &hq);
         if (i == 0 || d < best_d) {
             best = w->l.q[i];
             best_d = d;
