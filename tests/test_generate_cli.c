@@ -1,6 +1,6 @@
 /* test_generate_cli.c - `planetgen generate` end to end: each bad input of issue 5 exits
  * 2 with a one-line message naming the problem (and writes nothing), and a small planet
- * run writes the planet directory, the previews and a JSON report with the quality
+ * run writes the planet directory, the previews, the globe and a JSON report with the quality
  * figures (pits after the final pass: 0). */
 #include "pg_test.h"
 

@@ -1,7 +1,8 @@
 /* cmd_generate.c - `planetgen generate`: synthesize a whole planet by example on the cube
  * sphere (pg_planet_synth.h) and write the planet directory (pg_planet_save: per-face
- * albedo PNGs, height.exr, planet.json), equirectangular previews albedo.png and
- * relief.png, and a JSON report of parameters, stage timings and quality figures.
+ * albedo PNGs, height.exr, planet.json), the export module's previews (equirect
+ * albedo.png and relief.png, globe_*.png) and planet.glb (pg_export.h), and a JSON
+ * report of parameters, stage timings and quality figures.
  *
  * Every input is validated before work: numbers and choices, the pyramid (S a multiple
  * of 2^(levels-1)), the guide and type map (readable, 2:1, known colours), the preset,
@@ -10,6 +11,7 @@
 #include "pg_commands.h"
 
 #include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_export.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_planet_synth.h"
 
@@ -26,7 +28,7 @@ typedef struct gen_args {
     const char *albedo, *height;
     long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
     double jitter, guide_weight, max_memory_gb;
-    bool no_cache, independent;
+    bool no_cache, independent, no_glb;
 } gen_args;
 
 typedef struct gen_inputs {
@@ -152,55 +154,18 @@ static const char *path_for(const char *name, void *user) {
     return pg_cli_output_path(pc->cli, pc->dir, name);
 }
 
-/* Box-average the faces down to m x m (m divides n) into one cube buffer. */
-static float *small_cube(const pg_planet *p, int m, bool albedo) {
-    const int64_t n = p->n, k = n / m;
-    const int ch = albedo ? 3 : 1;
-    float *c = calloc((size_t)6 * m * m * ch, sizeof(float));
-    if (!c) return NULL;
-#pragma omp parallel for schedule(static)
-    for (int row = 0; row < 6 * m; row++) {
-        int f = row / m, y = row % m;
-        const float *src = albedo ? p->albedo[f] : p->height[f];
-        for (int x = 0; x < m; x++)
-            for (int q = 0; q < ch; q++) {
-                double s = 0;
-                for (int64_t j = 0; j < k; j++)
-                    for (int64_t i = 0; i < k; i++)
-                        s += src[((y * k + j) * n + x * k + i) * ch + q];
-                c[(((size_t)f * m + y) * m + x) * ch + q] = (float)(s / (double)(k * k));
-            }
-    }
-    return c;
-}
-
-static pg_status write_previews(pg_cli *cli, const char *dir, const pg_planet *p, int width,
-                                pg_error *err) {
-    int m = (int)p->n;
-    while (m > width / 4 && m % 2 == 0)
-        m /= 2;
-    const int w = width, h = width / 2;
-    pg_image img = {0}, hgt = {0};
-    float *ca = small_cube(p, m, true), *ch = small_cube(p, m, false);
-    pg_status st = ca && ch ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "previews: out of memory");
-    if (!st) st = pg_image_alloc(&img, w, h, 3, err);
-    if (!st) st = pg_image_alloc(&hgt, w, h, 1, err);
-    if (!st) st = pg_cube_to_equirect(p->projection, m, NULL, ca, 3, img.data, w, h, err);
-    const char *path = NULL;
-    if (!st && !(path = pg_cli_output_path(cli, dir, "albedo.png")))
-        st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
-    if (!st) st = pg_image_write_png(path, &img, 8, err);
-    if (!st) st = pg_cube_to_equirect(p->projection, m, NULL, ch, 1, hgt.data, w, h, err);
-    if (!st) {
-        pg_relief_shade(hgt.data, w, h, p->sea_level, img.data);
-        path = pg_cli_output_path(cli, dir, "relief.png");
-        st = path ? pg_image_write_png(path, &img, 8, err)
-                  : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
-    }
-    free(ca);
-    free(ch);
-    pg_image_free(&img);
-    pg_image_free(&hgt);
+/* Previews (albedo.png, relief.png, globe_*.png) and the glTF globe through the export
+ * module; height.exr is already in the planet directory. */
+static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *p, pg_error *err) {
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.exr = false;
+    o.glb = !a->no_glb;
+    o.preview_width = (int)a->preview_width;
+    pg_status st = pg_export_check_opts(&o, p->tiles, p->tile_size, err);
+    if (!st) st = pg_export_check_planet(&o, p, err);
+    path_ctx pc = {cli, a->outdir};
+    if (!st) st = pg_export_write(p, &o, path_for, &pc, NULL, err);
     return st;
 }
 
@@ -304,10 +269,8 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     st = pg_planet_save(&planet, path_for, &pc, &err);
     pg_cli_stage_end(cli);
     if (!st) {
-        pg_cli_stage_begin(cli, "write previews");
-        int w = a->preview_width > 0 ? (int)a->preview_width
-                                     : (int)(4 * planet.n < 2048 ? 4 * planet.n : 2048);
-        st = write_previews(cli, a->outdir, &planet, w, &err);
+        pg_cli_stage_begin(cli, "write previews and globe");
+        st = write_exports(cli, a, &planet, &err);
         pg_cli_stage_end(cli);
     }
     pg_planet_free(&planet);
@@ -363,6 +326,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "memory limit instead of the available memory"},
         {"--preview-width", NULL, PG_OPT_INT, &a.preview_width, 16, 16384, NULL, "W",
          "width of the equirectangular previews (default 4 N, at most 2048)"},
+        {"--no-glb", NULL, PG_OPT_FLAG, &a.no_glb, 0, 0, NULL, NULL,
+         "do not write the glTF globe planet.glb"},
         {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
          "exemplar albedo (default: Blue Marble)"},
         {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
