@@ -50,7 +50,9 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
                           pg_pits_result *res, pg_error *err) {
     switch (o->method) {
     case PG_PITS_FILL:
-        if (!o->epsilon && (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096)))
+        /* the tiled fill's labels (< ncells + one tile) must fit in 32 bits */
+        if (!o->epsilon && t->ncells < (UINT64_C(1) << 31) &&
+            (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096)))
             return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
