@@ -10,7 +10,7 @@
  *  - layout earth keeps the exemplar's land/ocean mask at >= 90% of texels at the
  *    coarsest kept level; the snow preset yields >= 95% texels of allowed types;
  *  - after the final pit pass the planet has no depressions;
- *  - a guide sketch steers land and ocean (layout free).
+ *  - a guide sketch steers land and ocean (layout free); a type map confines types.
  * Planets are 6 x 256^2 (N = 256) to keep the test short; the properties do not depend
  * on the size. The seam statistic is computed here (pairs classified by the tile grid,
  * face seams crossed with pg_cube_wrap), independently of the driver. */
@@ -290,6 +290,48 @@ static void test_guide(void **state) {
     free(g.metres);
 }
 
+/* A type map: the western hemisphere may use only desert and mountain, the eastern
+ * any type. >= 95% of the western texels are then of allowed types. */
+static void test_type_map(void **state) {
+    (void)state;
+    pg_types_map m = {64, 32, malloc(64 * 32)};
+    uint8_t dry;
+    pg_error err = {0};
+    assert_int_equal(pg_types_preset("desert", &dry, &err), PG_OK);
+    for (int i = 0; i < 64 * 32; i++)
+        m.mask[i] = i % 64 < 32 ? dry : PG_TYPES_ALL;
+    pg_planet_synth_params p;
+    pg_planet_synth_params_default(&p);
+    p.tiles = 4;
+    p.tile_size = 64;
+    p.types = &m;
+    pg_planet out;
+    uint32_t *coords;
+    pg_planet_synth_info info;
+    if (pg_planet_synth_run(ex, &p, &out, &coords, &info, &err)) fail_msg("%s", err.msg);
+    uint8_t *et = pg_types_exemplar(ex);
+    pg_cube_grid grid;
+    assert_int_equal(pg_cube_grid_init(&grid, PG_CUBE_DEFAULT_PROJECTION, 4, 64, &err), PG_OK);
+    const int64_t n = out.n;
+    uint64_t west = 0, ok = 0;
+    for (int64_t id = 0; id < 6 * n * n; id++) {
+        double d[3];
+        pg_cube_texel_dir(&grid, id, d);
+        if (atan2(d[1], d[0]) >= -0.05) continue; /* away from the map's own border */
+        if (atan2(d[1], d[0]) <= -M_PI_LOCAL + 0.05) continue;
+        west++;
+        ok += (dry >> et[pg_synth_texel(ex, coords[id])]) & 1;
+    }
+    double frac = (double)ok / (double)west;
+    printf("  type map: %.4f of western texels of allowed types (driver overall %.4f)\n", frac,
+           info.allowed_fraction);
+    assert_true(frac >= 0.95);
+    free(et);
+    free(coords);
+    free(m.mask);
+    pg_planet_free(&out);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_seams_invisible),
@@ -299,6 +341,7 @@ int main(void) {
         cmocka_unit_test(test_layout_earth_and_pits),
         cmocka_unit_test(test_snow_preset),
         cmocka_unit_test(test_guide),
+        cmocka_unit_test(test_type_map),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

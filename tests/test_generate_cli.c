@@ -5,6 +5,7 @@
 #include "pg_test.h"
 
 #include "planetgen/pg_image.h"
+#include "planetgen/pg_planet_synth.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +39,31 @@ static void grey_ramp(int x, int y, float *c) {
 static void types_with_magenta(int x, int y, float *c) {
     c[0] = 0, c[1] = 0, c[2] = 1;                      /* ocean */
     if (x < 10 && y < 5) c[0] = 1, c[1] = 0, c[2] = 1; /* magenta names no type */
+}
+
+/* Seven vertical bands: the six type colours, then black (any). */
+static void type_bands(int x, int y, float *c) {
+    (void)y;
+    static const float pal[7][3] = {{0, 0, 1}, {1, 1, 1},      {1, 1, 0},
+                                    {0, 1, 0}, {0, 0.502f, 0}, {0.502f, 0.502f, 0.502f},
+                                    {0, 0, 0}};
+    memcpy(c, pal[x * 7 / 140], sizeof pal[0]);
+}
+
+static void test_type_map_colours(void **state) {
+    (void)state;
+    char dir[512], f[600];
+    pg_test_scratch_dir("generate-cli-typemap", dir, sizeof dir);
+    snprintf(f, sizeof f, "%s/types.png", dir);
+    write_png(f, 140, 70, type_bands);
+    pg_types_map m;
+    pg_error e = {0};
+    assert_int_equal(pg_types_map_load(f, &m, &e), PG_OK);
+    for (int t = 0; t < 7; t++) {
+        uint8_t want = t < PG_TYPE_COUNT ? (uint8_t)(1u << t) : PG_TYPES_ALL;
+        assert_int_equal(m.mask[35 * 140 + t * 20 + 10], want);
+    }
+    pg_types_map_free(&m);
 }
 
 static void test_bad_sizes(void **state) {
@@ -134,9 +160,8 @@ static void test_small_planet(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bad_sizes),
-        cmocka_unit_test(test_bad_maps),
-        cmocka_unit_test(test_preset_without_texels),
+        cmocka_unit_test(test_type_map_colours), cmocka_unit_test(test_bad_sizes),
+        cmocka_unit_test(test_bad_maps),         cmocka_unit_test(test_preset_without_texels),
         cmocka_unit_test(test_small_planet),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
