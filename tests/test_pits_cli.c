@@ -134,6 +134,35 @@ static void test_png16(void **state) {
     free(sk);
 }
 
+/* --threads 1 and --threads 2 write the same heights (plain fill takes the tiled
+ * parallel path with 2 threads). */
+static void test_threads_identical(void **state) {
+    (void)state;
+    int w = 160, h = 120;
+    float *d = malloc(sizeof(float) * w * h);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            d[y * w + x] =
+                (float)(100 + 30 * sin(x * 0.37) * cos(y * 0.29) + ((x * 31 + y * 17) % 7));
+    char in[1200], a[1200], b[1200], args[4096];
+    snprintf(in, sizeof in, "%s/thr.exr", dir);
+    write_exr(in, d, w, h);
+    for (int m = 0; m < 2; m++) {
+        const char *method = m ? "breach --epsilon" : "fill";
+        snprintf(a, sizeof a, "%s/thr1.exr", dir);
+        snprintf(b, sizeof b, "%s/thr2.exr", dir);
+        snprintf(args, sizeof args, "pits --method %s --threads 1 '%s' -o '%s'", method, in, a);
+        assert_int_equal(pg_test_run_cli(args, NULL, 0, NULL, 0), 0);
+        snprintf(args, sizeof args, "pits --method %s --threads 2 '%s' -o '%s'", method, in, b);
+        assert_int_equal(pg_test_run_cli(args, NULL, 0, NULL, 0), 0);
+        float *ra = read_back(a, w, h, 1.0f), *rb = read_back(b, w, h, 1.0f);
+        assert_memory_equal(ra, rb, sizeof(float) * w * h);
+        free(ra);
+        free(rb);
+    }
+    free(d);
+}
+
 static void expect_exit2(const char *args, const char *needle) {
     char se[4096] = {0};
     int rc = pg_test_run_cli(args, NULL, 0, se, sizeof se);
@@ -229,9 +258,8 @@ static void test_planet_stats(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_methods_exr),
-        cmocka_unit_test(test_png16),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_methods_exr),       cmocka_unit_test(test_png16),
+        cmocka_unit_test(test_threads_identical), cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_planet_stats),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
