@@ -373,7 +373,7 @@ static void test_cli_bad_input(void **state) {
         expect_bad(args, "--view-size: must be a positive power of two");
     }
     snprintf(args, sizeof args, "inspect '%s' --view-size 128", fx->dir);
-    expect_bad(args, "--view-size: must be 256..4096");
+    expect_bad(args, "--view-size: must be 256..2048");
 }
 
 int main(void) {
