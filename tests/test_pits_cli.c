@@ -134,6 +134,34 @@ static void test_png16(void **state) {
     free(sk);
 }
 
+/* TIFF in and out: a float TIFF written by -o X.tif reads back with the same heights
+ * as the EXR output, and a TIFF input works the same as the EXR it came from. */
+static void test_tiff(void **state) {
+    (void)state;
+    int w = 64, h = 48;
+    float d[64 * 48];
+    make_dem(d, w, h);
+    char in[1200], exr[1200], tif[1200], tif2[1200], args[4096], se[4096];
+    snprintf(in, sizeof in, "%s/t_in.exr", dir);
+    write_exr(in, d, w, h);
+    snprintf(exr, sizeof exr, "%s/t_out.exr", dir);
+    snprintf(tif, sizeof tif, "%s/t_out.tif", dir);
+    snprintf(tif2, sizeof tif2, "%s/t_out2.tiff", dir);
+    snprintf(args, sizeof args, "pits --method breach --epsilon '%s' -o '%s'", in, exr);
+    assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
+    snprintf(args, sizeof args, "pits --method breach --epsilon '%s' -o '%s'", in, tif);
+    assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
+    snprintf(args, sizeof args, "pits --method breach --epsilon '%s' -o '%s'", tif, tif2);
+    assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0); /* TIFF in */
+    float *a = read_back(exr, w, h, 1.0f), *b = read_back(tif, w, h, 1.0f),
+          *c = read_back(tif2, w, h, 1.0f);
+    assert_memory_equal(a, b, sizeof(float) * w * h);
+    assert_memory_equal(b, c, sizeof(float) * w * h); /* already pit-free: unchanged */
+    free(a);
+    free(b);
+    free(c);
+}
+
 /* --threads 1 and --threads 2 write the same heights (plain fill takes the tiled
  * parallel path with 2 threads). */
 static void test_threads_identical(void **state) {
@@ -259,8 +287,8 @@ static void test_planet_stats(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_methods_exr),       cmocka_unit_test(test_png16),
-        cmocka_unit_test(test_threads_identical), cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_planet_stats),
+        cmocka_unit_test(test_threads_identical), cmocka_unit_test(test_tiff),
+        cmocka_unit_test(test_bad_input),         cmocka_unit_test(test_planet_stats),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -7,7 +7,8 @@
  *
  * It lets GIS users run the pit-removal module (pg_pits.h) on its own. Inputs are
  * any image OpenImageIO reads (GeoTIFF, EXR, 16-bit PNG, ...), taken as raw heights;
- * outputs are float EXR (strict descent survives) or 16-bit PNG (for integer inputs:
+ * outputs are float EXR or float TIFF (strict descent survives; a TIFF keeps the
+ * input's GeoTIFF georeferencing) or 16-bit PNG (for integer inputs:
  * the result is rounded to the input's steps, which keeps every path non-ascending
  * because rounding is monotone). Map borders are outlets unless --closed-edges. All
  * input is validated before any output is created. */
@@ -16,6 +17,7 @@
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_pits.h"
+#include "planetgen/pg_pits_tiff.h"
 #include "planetgen/pg_planet.h"
 
 #include <math.h>
@@ -120,7 +122,18 @@ static void report_stats(pg_cli *cli, const char *key, const pg_pits_stats *st, 
     pg_json_set_number(o, "max_depth", st->max_depth_m);
 }
 
-static pg_status write_dem(pg_cli *cli, const char *out, pg_image *img, pg_error *err) {
+/* The output format, from OUT's extension: 'e' EXR, 'p' PNG, 't' TIFF, 0 unknown. */
+static char out_kind(const char *out) {
+    size_t n = strlen(out);
+    if (n > 4 && !strcmp(out + n - 4, ".exr")) return 'e';
+    if (n > 4 && !strcmp(out + n - 4, ".png")) return 'p';
+    if ((n > 4 && !strcmp(out + n - 4, ".tif")) || (n > 5 && !strcmp(out + n - 5, ".tiff")))
+        return 't';
+    return 0;
+}
+
+static pg_status write_dem(pg_cli *cli, const char *out, const char *in, pg_image *img,
+                           pg_error *err) {
     const char *slash = strrchr(out, '/');
     char dir[4096];
     snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
@@ -128,8 +141,9 @@ static pg_status write_dem(pg_cli *cli, const char *out, pg_image *img, pg_error
     const char *name = slash ? slash + 1 : out;
     const char *tmp = pg_cli_output_path(cli, dir, name);
     if (!tmp) return pg_error_set(err, PG_ERR_NOMEM, "-o %s: out of memory", out);
-    size_t len = strlen(name);
-    if (len > 4 && !strcmp(name + len - 4, ".exr")) return pg_image_write_exr(tmp, img, NULL, err);
+    if (out_kind(name) == 'e') return pg_image_write_exr(tmp, img, NULL, err);
+    if (out_kind(name) == 't')
+        return pg_pits_write_tiff(tmp, img->data, img->width, img->height, in, err);
     /* PNG: back to the input's integer steps; pg_image_write_png rounds */
     size_t n = (size_t)img->width * img->height;
     for (size_t i = 0; i < n; i++)
@@ -138,12 +152,10 @@ static pg_status write_dem(pg_cli *cli, const char *out, pg_image *img, pg_error
 }
 
 static pg_status check_output(const pits_args *a, const pg_image *img, pg_error *err) {
-    size_t len = strlen(a->out);
-    int exr = len > 4 && !strcmp(a->out + len - 4, ".exr");
-    int png = len > 4 && !strcmp(a->out + len - 4, ".png");
-    if (!exr && !png)
-        return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: write .exr (float) or .png (16-bit)",
-                            a->out);
+    int png = out_kind(a->out) == 'p';
+    if (!out_kind(a->out))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "-o %s: write .exr or .tif (float) or .png (16-bit)", a->out);
     if (png && (img->unit_scale == 1.0f || img->src_type == PG_SAMPLE_FLOAT))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "-o %s: a float DEM cannot be written as PNG without losing "
@@ -272,7 +284,7 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
         s = pg_pits_stats_compute(&t, img.data, &o, &area, &after, &err);
         pg_cli_stage_end(cli);
     }
-    if (!s) s = write_dem(cli, a->out, &img, &err);
+    if (!s) s = write_dem(cli, a->out, in, &img, &err);
     pg_image_free(&img);
     free(lakes);
     if (s) return pg_cli_fail(cli, &err);
@@ -330,7 +342,8 @@ int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
          "skip counting depressions before and after"},
         {"--stats", NULL, PG_OPT_STRING, &a.stats, 0, 0, NULL, "FILE",
          "only count the depressions of FILE, or of a planet directory (globally)"},
-        {"--output", "-o", PG_OPT_STRING, &a.out, 0, 0, NULL, "OUT", "output DEM (.exr or .png)"},
+        {"--output", "-o", PG_OPT_STRING, &a.out, 0, 0, NULL, "OUT",
+         "output DEM (.exr, .tif: float; .png: 16-bit)"},
         PG_OPT_END};
     const char *pos[2];
     int npos = 0;
