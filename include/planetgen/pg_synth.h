@@ -68,7 +68,7 @@ void pg_synth_exemplar_params_default(pg_synth_exemplar_params *p);
 /* A prepared exemplar. Read-only after preparation; safe to share between threads. */
 typedef struct pg_synth_exemplar {
     int face_size, nfaces; /* nfaces = 6 (cube) or 1 (a toroidal test exemplar) */
-    bool torus;            /* coordinates wrap modulo E (else clamp into the face) */
+    bool torus;            /* coordinates wrap modulo E (else cross onto the next face) */
     int levels, dims, k;
     float sea_level;                      /* metres */
     float metres_to_app;                  /* appearance units of component 1 per metre of height */
@@ -77,7 +77,11 @@ typedef struct pg_synth_exemplar {
     float *height;                        /* nfaces*E*E metres, finest level */
     int16_t *app[PG_SYNTH_MAX_LEVELS];    /* nfaces*E*E*PG_SYNTH_MAX_DIMS per scale */
     uint32_t *kcoh[PG_SYNTH_MAX_LEVELS];  /* nfaces*E*E*(k-1) packed coords per scale */
-    float pca_basis[PG_SYNTH_MAX_LEVELS][PG_SYNTH_MAX_DIMS][100]; /* rows: comps 2..d */
+    float pca_basis[PG_SYNTH_MAX_LEVELS][PG_SYNTH_MAX_DIMS][100]; /* row 0: unit vector of
+                                                                   * component 1 (local mean
+                                                                   * height); rows 1..d-1: PCA
+                                                                   * axes; over the 100 raw
+                                                                   * dims (25 samples x Lab+h) */
     float pca_mean[PG_SYNTH_MAX_LEVELS][100];
     float lab_height_scale; /* height channel = metres * this (before Gaussian weights) */
     float height_min, height_max;
@@ -95,7 +99,7 @@ typedef struct pg_synth_prep_info {
 } pg_synth_prep_info;
 
 /* Prepare from a global equirectangular albedo (RGB 0..1, sRGB) and height (metres)
- * on a common width x 2*... grid (width == 2*height). cache_dir: NULL = default
+ * on one common grid, width == 2 * height_px (row 0 north). cache_dir: NULL = default
  * ($XDG_CACHE_HOME/planetgen or ~/.cache/planetgen), "" = no cache. */
 pg_status pg_synth_prepare_exemplar(const float *albedo, const float *height, int width,
                                     int height_px, float sea_level,
