@@ -198,24 +198,24 @@ static inline uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int e
 }
 
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
-static void target_nbhd(const corr_ctx *c, const nbhd *n, float ns[ND][PG_SYNTH_MAX_DIMS]) {
+/* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions whose
+ * exemplar coordinates were computed (and prefetched) in tq. */
+static void target_nbhd(const corr_ctx *c, const nbhd *n, const uint32_t tq[ND][3],
+                        float ns[ND][PG_SYNTH_MAX_DIMS]) {
     for (int d = 0; d < ND; d++) {
         const int Dx = diag[d][0], Dy = diag[d][1];
-        const int es[3][2] = {{Dx, Dy}, {Dx, 0}, {0, Dy}};
+        const int vk[3] = {(Dy + 1) * 3 + (Dx + 1), 3 + (Dx + 1), (Dy + 1) * 3 + 1};
         float acc[PG_SYNTH_MAX_DIMS] = {0};
         for (int j = 0; j < 3; j++) {
-            int ex = es[j][0], ey = es[j][1];
-            uint32_t q = move_from(c, n, ex, ey, Dx - ex, Dy - ey);
-            const int16_t *a = app_at(c, q);
+            const int16_t *a = app_at(c, tq[d][j]);
             for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
                 acc[i] += a[i];
-            acc[0] += n->V[(ey + 1) * 3 + (ex + 1)] * c->m2q;
+            acc[0] += n->V[vk[j]] * c->m2q;
         }
         for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
             ns[d][i] = acc[i] * (1.0f / 3.0f);
     }
 }
-
 typedef struct cand_list {
     uint32_t q[NCAND_MAX];
     float pen[NCAND_MAX];
@@ -232,20 +232,15 @@ static void add_cand(cand_list *l, uint32_t q, float pen) {
     l->pen[l->n++] = pen;
 }
 
-static void gather_candidates(const corr_ctx *c, const nbhd *n, cand_list *l) {
-    static const int order[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
-                                    {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+static void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l) {
     l->n = 0;
     for (int i = 0; i < 9; i++) {
-        int ex = order[i][0], ey = order[i][1];
-        uint32_t q0 = move_from(c, n, ex, ey, -ex, -ey); /* coherent: S[p+e] - h e */
-        add_cand(l, q0, 1.0f);
-        const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0) * c->kk : NULL;
+        add_cand(l, q0[i], 1.0f);
+        const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0[i]) * c->kk : NULL;
         for (int j = 0; j < c->kk; j++)
             add_cand(l, kc[j], 1.0f + c->kappa);
     }
 }
-
 static inline float lane_sum(const float *acc) {
     return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
 }
@@ -254,12 +249,12 @@ static inline float lane_sum(const float *acc) {
  * offset in *hoff. Returns +inf as soon as the partial sum shows it cannot be < limit:
  * the lanes only grow, the height term is >= 0 and pen > 0, so the skip is exact, and
  * it saves the random reads of the remaining diagonals of hopeless candidates. */
-static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], uint32_t q,
-                       float pen, float limit, float *hoff) {
+static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS],
+                       const uint32_t dq[ND], float pen, float limit, float *hoff) {
     /* fixed 8-lane loops (component 1 and unused components masked out) vectorise */
     float d1[ND], acc[PG_SYNTH_MAX_DIMS] = {0}, mean = 0;
     for (int d = 0; d < ND; d++) {
-        const int16_t *a = app_at(c, offs(c->ex, q, c->h * diag[d][0], c->h * diag[d][1]));
+        const int16_t *a = c->A + (size_t)dq[d] * PG_SYNTH_MAX_DIMS;
         d1[d] = ns[d][0] - a[0];
         mean += d1[d];
         for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++) {
@@ -285,42 +280,52 @@ static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS],
  * batching changes no result. */
 #define BATCH 8
 
-typedef struct texel_work {
-    nbhd n;
-    float ns[ND][PG_SYNTH_MAX_DIMS];
-    cand_list l;
-} texel_work;
-
 static inline void prefetch_app(const corr_ctx *c, uint32_t q) {
     __builtin_prefetch(app_at(c, q));
 }
 
-static void prefetch_targets(const corr_ctx *c, const nbhd *n) {
+typedef struct texel_work {
+    nbhd n;
+    uint32_t tq[ND][3]; /* coordinates of the 12 target predictions */
+    uint32_t q0[9];     /* coherent candidates, incumbent first */
+    float ns[ND][PG_SYNTH_MAX_DIMS];
+    cand_list l;
+    uint32_t dq[NCAND_MAX][ND]; /* texel indices of each candidate's diagonals */
+} texel_work;
+
+/* Phase 1: coordinates of the target predictions and coherent candidates, prefetched. */
+static void texel_coords(const corr_ctx *c, texel_work *w) {
+    static const int order[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                    {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
     for (int d = 0; d < ND; d++) {
         const int Dx = diag[d][0], Dy = diag[d][1];
-        prefetch_app(c, move_from(c, n, Dx, Dy, 0, 0));
-        prefetch_app(c, move_from(c, n, Dx, 0, 0, Dy));
-        prefetch_app(c, move_from(c, n, 0, Dy, Dx, 0));
+        w->tq[d][0] = move_from(c, &w->n, Dx, Dy, 0, 0);
+        w->tq[d][1] = move_from(c, &w->n, Dx, 0, 0, Dy);
+        w->tq[d][2] = move_from(c, &w->n, 0, Dy, Dx, 0);
+        for (int j = 0; j < 3; j++)
+            prefetch_app(c, w->tq[d][j]);
     }
-    if (c->K)
-        for (int e = 0; e < 9; e++) {
-            uint32_t q0 = move_from(c, n, e % 3 - 1, e / 3 - 1, 1 - e % 3, 1 - e / 3);
-            __builtin_prefetch(c->K + pg_synth_texel(c->ex, q0) * c->kk);
+    for (int i = 0; i < 9; i++) {
+        int ex = order[i][0], ey = order[i][1];
+        w->q0[i] = move_from(c, &w->n, ex, ey, -ex, -ey); /* coherent: S[p+e] - h e */
+        if (c->K) __builtin_prefetch(c->K + pg_synth_texel(c->ex, w->q0[i]) * c->kk);
+    }
+}
+/* Phase 2 end: texel indices of every candidate's diagonal neighbours, prefetched. */
+static void candidate_diagonals(const corr_ctx *c, texel_work *w) {
+    for (int i = 0; i < w->l.n; i++)
+        for (int d = 0; d < ND; d++) {
+            uint32_t q = offs(c->ex, w->l.q[i], c->h * diag[d][0], c->h * diag[d][1]);
+            w->dq[i][d] = (uint32_t)pg_synth_texel(c->ex, q);
+            __builtin_prefetch(c->A + (size_t)w->dq[i][d] * PG_SYNTH_MAX_DIMS);
         }
 }
-
-static void prefetch_candidates(const corr_ctx *c, const cand_list *l) {
-    for (int i = 0; i < l->n; i++)
-        for (int d = 0; d < ND; d++)
-            prefetch_app(c, offs(c->ex, l->q[i], c->h * diag[d][0], c->h * diag[d][1]));
-}
-
 static void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V) {
     uint32_t best = w->l.q[0];
     float best_h = 0, best_d = 0;
     for (int i = 0; i < w->l.n; i++) {
         float hq = 0,
-              d = cand_dist(c, w->ns, w->l.q[i], w->l.pen[i], i == 0 ? INFINITY : best_d, &hq);
+              d = cand_dist(c, w->ns, w->dq[i], w->l.pen[i], i == 0 ? INFINITY : best_d, &hq);
         if (i == 0 || d < best_d) {
             best = w->l.q[i];
             best_d = d;
@@ -339,12 +344,12 @@ correct_batch(const corr_ctx *c, const pg_synth_view *v, int y, int x0, int cnt)
     texel_work w[BATCH];
     for (int i = 0; i < cnt; i++) {
         load_nbhd(v, x0 + 2 * i, y, &w[i].n);
-        prefetch_targets(c, &w[i].n);
+        texel_coords(c, &w[i]);
     }
     for (int i = 0; i < cnt; i++) {
-        target_nbhd(c, &w[i].n, w[i].ns);
-        gather_candidates(c, &w[i].n, &w[i].l);
-        prefetch_candidates(c, &w[i].l);
+        target_nbhd(c, &w[i].n, w[i].tq, w[i].ns);
+        gather_candidates(c, w[i].q0, &w[i].l);
+        candidate_diagonals(c, &w[i]);
     }
     for (int i = 0; i < cnt; i++) {
         ptrdiff_t at = (ptrdiff_t)y * v->stride + x0 + 2 * i;
