@@ -221,6 +221,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(res, "gain_pit_seconds", si->pits_seconds);
     pg_json_set_number(res, "gain_pit_cells_changed", (double)si->pit_cells_changed);
     pg_json_set_number(res, "final_pits_seconds", si->final_pits_seconds);
+    pg_json_set_number(res, "depression_count_seconds", si->pit_stats_seconds);
     pg_json_set_number(res, "render_seconds", si->render_seconds);
     pg_json *lv = pg_json_set_array(res, "level_seconds");
     for (int i = 0; i < si->nlevels; i++)
