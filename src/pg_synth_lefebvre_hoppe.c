@@ -150,6 +150,9 @@ void pg_synth_jitter(const pg_synth_exemplar *ex, int scale, double r, uint64_t 
 /* ---------------------------------- correction ---------------------------------- */
 
 #define NCAND_MAX (9 * PG_SYNTH_MAX_K)
+/* The correction helpers are forced inline into correct_batch so that its AVX2 clone
+ * compiles them for AVX2 too. */
+#define HOT static inline __attribute__((always_inline))
 #define ND 4 /* diagonal neighbours */
 
 static const int diag[ND][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
@@ -178,7 +181,7 @@ typedef struct nbhd {
     uint8_t o[9];
 } nbhd;
 
-static void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
+HOT void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
     for (int dy = -1; dy <= 1; dy++)
         for (int dx = -1; dx <= 1; dx++) {
             ptrdiff_t i = (ptrdiff_t)(y + dy) * v->stride + (x + dx);
@@ -191,7 +194,7 @@ static void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
 
 /* Coordinate of the texel at e (in the view frame) moved by h * (ox, oy) in the view
  * frame: the offset is rotated into that texel's frame first. */
-static inline uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox, int oy) {
+HOT uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox, int oy) {
     int k = (ey + 1) * 3 + (ex + 1);
     if (n->o[k]) pg_synth_orient_apply(n->o[k], &ox, &oy);
     return offs(c->ex, n->S[k], c->h * ox, c->h * oy);
@@ -200,8 +203,8 @@ static inline uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int e
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions whose
  * exemplar coordinates were computed (and prefetched) in tq. */
-static void target_nbhd(const corr_ctx *c, const nbhd *n, const uint32_t tq[ND][3],
-                        float ns[ND][PG_SYNTH_MAX_DIMS]) {
+HOT void target_nbhd(const corr_ctx *c, const nbhd *n, const uint32_t tq[ND][3],
+                     float ns[ND][PG_SYNTH_MAX_DIMS]) {
     for (int d = 0; d < ND; d++) {
         const int Dx = diag[d][0], Dy = diag[d][1];
         const int vk[3] = {(Dy + 1) * 3 + (Dx + 1), 3 + (Dx + 1), (Dy + 1) * 3 + 1};
@@ -222,7 +225,7 @@ typedef struct cand_list {
     int n;
 } cand_list;
 
-static void add_cand(cand_list *l, uint32_t q, float pen) {
+HOT void add_cand(cand_list *l, uint32_t q, float pen) {
     for (int i = 0; i < l->n; i++)
         if (l->q[i] == q) {
             if (pen < l->pen[i]) l->pen[i] = pen;
@@ -232,7 +235,7 @@ static void add_cand(cand_list *l, uint32_t q, float pen) {
     l->pen[l->n++] = pen;
 }
 
-static void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l) {
+HOT void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l) {
     l->n = 0;
     for (int i = 0; i < 9; i++) {
         add_cand(l, q0[i], 1.0f);
@@ -249,8 +252,8 @@ static inline float lane_sum(const float *acc) {
  * offset in *hoff. Returns +inf as soon as the partial sum shows it cannot be < limit:
  * the lanes only grow, the height term is >= 0 and pen > 0, so the skip is exact, and
  * it saves the random reads of the remaining diagonals of hopeless candidates. */
-static float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS],
-                       const uint32_t dq[ND], float pen, float limit, float *hoff) {
+HOT float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], const uint32_t dq[ND],
+                    float pen, float limit, float *hoff) {
     /* fixed 8-lane loops (component 1 and unused components masked out) vectorise */
     float d1[ND], acc[PG_SYNTH_MAX_DIMS] = {0}, mean = 0;
     for (int d = 0; d < ND; d++) {
@@ -294,7 +297,7 @@ typedef struct texel_work {
 } texel_work;
 
 /* Phase 1: coordinates of the target predictions and coherent candidates, prefetched. */
-static void texel_coords(const corr_ctx *c, texel_work *w) {
+HOT void texel_coords(const corr_ctx *c, texel_work *w) {
     static const int order[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
                                     {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
     for (int d = 0; d < ND; d++) {
@@ -312,7 +315,7 @@ static void texel_coords(const corr_ctx *c, texel_work *w) {
     }
 }
 /* Phase 2 end: texel indices of every candidate's diagonal neighbours, prefetched. */
-static void candidate_diagonals(const corr_ctx *c, texel_work *w) {
+HOT void candidate_diagonals(const corr_ctx *c, texel_work *w) {
     for (int i = 0; i < w->l.n; i++)
         for (int d = 0; d < ND; d++) {
             uint32_t q = offs(c->ex, w->l.q[i], c->h * diag[d][0], c->h * diag[d][1]);
@@ -320,7 +323,7 @@ static void candidate_diagonals(const corr_ctx *c, texel_work *w) {
             __builtin_prefetch(c->A + (size_t)w->dq[i][d] * PG_SYNTH_MAX_DIMS);
         }
 }
-static void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V) {
+HOT void choose(const corr_ctx *c, const texel_work *w, uint32_t *S, float *V) {
     uint32_t best = w->l.q[0];
     float best_h = 0, best_d = 0;
     for (int i = 0; i < w->l.n; i++) {
