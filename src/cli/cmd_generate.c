@@ -195,6 +195,20 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
         pg_cli_info(cli, "pits     depressions %llu before the final pass, %llu after\n",
                     (unsigned long long)si->before.depressions,
                     (unsigned long long)si->after.depressions);
+    pg_cli_verbose(cli, "method   Lefebvre & Hoppe 2005/2006 correction with Gain, Merry & "
+                        "Marais 2015 height offsets and type constraints\n");
+    if (p->guide)
+        pg_cli_verbose(cli,
+                       "guide    Scott & Dodgson 2021 soft constraint, weight %.2f halving "
+                       "per finer level\n",
+                       p->guide_alpha);
+    if (p->pits) {
+        pg_cli_verbose(cli, "pits     Gain-pit (Scott 2020 4.2.1): %s\n",
+                       pg_pits_method_citation(p->pit_method));
+        if (p->final_pits)
+            pg_cli_verbose(cli, "pits     final pass: %s\n",
+                           pg_pits_method_citation(p->final_method));
+    }
     pg_json *r = pg_cli_report(cli);
     if (!r) return;
     pg_json *pp = pg_json_set_object(r, "parameters");
@@ -333,8 +347,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "exemplar albedo (default: Blue Marble)"},
         {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
          "exemplar height (default: Marble's relief)"},
-        {"--face-size", NULL, PG_OPT_INT, &a.face_size, 64, 4096, NULL, "E",
-         "exemplar cube face size (512)"},
+        {"--face-size", NULL, PG_OPT_INT, &a.face_size, 512, 4096, NULL, "E",
+         "exemplar cube face size (512; 6 analysed levels need at least 512)"},
         {"--cache-dir", NULL, PG_OPT_STRING, &a.cache_dir, 0, 0, NULL, "DIR",
          "exemplar cache (default $XDG_CACHE_HOME/planetgen)"},
         {"--no-cache", NULL, PG_OPT_FLAG, &a.no_cache, 0, 0, NULL, NULL,
@@ -351,8 +365,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         pg_cli_print_help(cli, "[-o DIR] [--tiles T] [--tile-size S] [--seed N] [OPTIONS]",
                           "Synthesize a whole planet by example on the cube sphere (Lefebvre-"
                           "Hoppe per tile,\nneighbouring edges as constraints, Gain-pit pit "
-                          "removal) and write the planet\ndirectory, albedo.png and relief.png "
-                          "previews to DIR.",
+                          "removal) and write the planet\ndirectory, equirectangular previews, "
+                          "globe renders and planet.glb to DIR.",
                           opts, stdout);
         return 0;
     }
