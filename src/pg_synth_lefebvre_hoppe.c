@@ -238,6 +238,10 @@ HOT void add_cand(cand_list *l, uint32_t q, float pen) {
 HOT void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l) {
     l->n = 0;
     for (int i = 0; i < 9; i++) {
+        int seen = 0; /* a repeated coherent candidate brings nothing new (same k entries) */
+        for (int j = 0; j < i && !seen; j++)
+            seen = q0[j] == q0[i];
+        if (seen) continue;
         add_cand(l, q0[i], 1.0f);
         const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0[i]) * c->kk : NULL;
         for (int j = 0; j < c->kk; j++)
