@@ -13,10 +13,12 @@
  *  - a guide sketch steers land and ocean (layout free); a type map confines types.
  * Planets are 6 x 256^2 (N = 256) to keep the test short; the properties do not depend
  * on the size. The seam statistic is computed here (pairs classified by the tile grid,
- * face seams crossed with pg_cube_wrap), independently of the driver. */
+ * face seams crossed with pg_cube_wrap), independently of the driver, with the
+ * coherence that pg_inspect's statistic lacks; pg_inspect's |delta| ratios must agree. */
 #include "pg_test.h"
 
 #include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_inspect.h"
 #include "planetgen/pg_planet_synth.h"
 
 #include <math.h>
@@ -156,14 +158,27 @@ static ratios seam_ratios(const run *r) {
     return q;
 }
 
+/* The inspect module's seam statistic (pg_inspect.h) must agree with this file's. */
+static pg_inspect_seams inspect_seams(const run *r, const ratios *q) {
+    pg_inspect_seams s;
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_seams_compute(&r->p, &s, &err), PG_OK);
+    printf("  pg_inspect seam ratios: height %.3f, albedo %.3f\n", s.height.ratio, s.albedo.ratio);
+    assert_true(fabs(s.height.ratio - q->h) < 0.05 * q->h);
+    assert_true(fabs(s.albedo.ratio - q->a) < 0.05 * q->a);
+    return s;
+}
+
 static void test_seams_invisible(void **state) {
     (void)state;
     run r;
     synth(4, 64, PG_LAYOUT_FREE, false, NULL, &r);
     ratios q = seam_ratios(&r);
-    assert_true(q.h <= 1.1);
-    assert_true(q.a <= 1.1);
+    assert_true(q.h <= PG_INSPECT_SEAM_GATE);
+    assert_true(q.a <= PG_INSPECT_SEAM_GATE);
     assert_true(q.coh >= 0.8);
+    pg_inspect_seams s = inspect_seams(&r, &q);
+    assert_true(s.ratio <= PG_INSPECT_SEAM_GATE);
     run_free(&r);
 }
 
@@ -173,6 +188,7 @@ static void test_independent_tiles_show_seams(void **state) {
     synth(4, 64, PG_LAYOUT_FREE, true, NULL, &r);
     ratios q = seam_ratios(&r);
     assert_true(q.h > 1.1 || q.a > 1.1 || q.coh < 0.8);
+    assert_true(inspect_seams(&r, &q).ratio > PG_INSPECT_SEAM_GATE);
     run_free(&r);
 }
 
