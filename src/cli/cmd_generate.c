@@ -12,6 +12,7 @@
 
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_export.h"
+#include "planetgen/pg_inspect.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_planet_synth.h"
 
@@ -179,7 +180,8 @@ static void report_depressions(pg_json *o, const char *key, const pg_pits_stats 
 }
 
 static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
-                   const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need) {
+                   const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need,
+                   const pg_inspect_seams *seams) {
     double mpx = 6.0 * (double)a->tiles * a->tiles * a->tile_size * a->tile_size / 1e6;
     pg_cli_info(cli, "exemplar %s in %.2f s\n", pi->from_cache ? "loaded from cache" : "prepared",
                 pi->seconds);
@@ -191,6 +193,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     if (p->type_mask != PG_TYPES_ALL || p->types)
         pg_cli_info(cli, "types    %.1f%% of texels of allowed types\n",
                     100 * si->allowed_fraction);
+    pg_cli_info(cli, "seams    seam/interior |delta|: height %.3f, albedo %.3f (gate %.1f)\n",
+                seams->height.ratio, seams->albedo.ratio, PG_INSPECT_SEAM_GATE);
     if (p->pit_stats)
         pg_cli_info(cli, "pits     depressions %llu before the final pass, %llu after\n",
                     (unsigned long long)si->before.depressions,
@@ -243,6 +247,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(res, "memory_estimate_bytes", need);
     pg_json_set_number(res, "land_agreement", isnan(si->land_agreement) ? -1 : si->land_agreement);
     pg_json_set_number(res, "allowed_type_fraction", si->allowed_fraction);
+    pg_json_set_number(res, "seam_ratio_height", seams->height.ratio);
+    pg_json_set_number(res, "seam_ratio_albedo", seams->albedo.ratio);
     if (p->pit_stats) {
         report_depressions(res, "pits_before", &si->before);
         report_depressions(res, "pits_after", &si->after);
@@ -277,6 +283,11 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     pg_cli_stage_end(cli);
     pg_synth_exemplar_free(ex);
     if (st) return pg_cli_fail(cli, &err);
+    pg_inspect_seams seams;
+    if (pg_inspect_seams_compute(&planet, &seams, &err)) {
+        pg_planet_free(&planet);
+        return pg_cli_fail(cli, &err);
+    }
     src_name[sizeof planet.exemplar - 1] = 0;
     memcpy(planet.exemplar, src_name, sizeof planet.exemplar);
     pg_cli_stage_begin(cli, "write planet");
@@ -290,7 +301,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     }
     pg_planet_free(&planet);
     if (st) return pg_cli_fail(cli, &err);
-    report(cli, a, &p, &pi, &si, need);
+    report(cli, a, &p, &pi, &si, need, &seams);
     return pg_cli_finish(cli);
 }
 
