@@ -52,21 +52,18 @@ void pg_appearance_gather(const pg_synth_faces *f, int face, int x, int y, int h
 }
 
 void pg_appearance_project(const pg_synth_exemplar *ex, int scale, const float *raw, float *comps) {
-    const float *e = ex->pca_basis[scale][0];
     const float *mean = ex->pca_mean[scale];
-    float c0 = 0;
-    for (int i = 0; i < PG_SYNTH_RAW; i++)
-        c0 += e[i] * raw[i];
-    comps[0] = c0;
     float centred[PG_SYNTH_RAW];
     for (int i = 0; i < PG_SYNTH_RAW; i++)
         centred[i] = raw[i] - mean[i];
-    for (int c = 1; c < ex->dims; c++) {
-        const float *b = ex->pca_basis[scale][c];
-        float acc = 0;
-        for (int i = 0; i < PG_SYNTH_RAW; i++)
-            acc += b[i] * centred[i];
-        comps[c] = acc;
+    for (int c = 0; c < ex->dims; c++) {
+        /* component 1 is not centred: it is the absolute local mean height */
+        const float *b = ex->pca_basis[scale][c], *x = c == 0 ? raw : centred;
+        float lane[4] = {0}; /* 4 independent sums in a fixed order: vectorises, exact */
+        for (int i = 0; i < PG_SYNTH_RAW; i += 4)
+            for (int l = 0; l < 4; l++)
+                lane[l] += b[i + l] * x[i + l];
+        comps[c] = (lane[0] + lane[1]) + (lane[2] + lane[3]);
     }
 }
 

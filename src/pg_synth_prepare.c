@@ -82,7 +82,7 @@ static pg_status check_params(const pg_synth_exemplar_params *p, pg_error *err) 
 static uint64_t make_key(const float *albedo, const float *height, int w, int h, float sea,
                          const pg_synth_exemplar_params *p, int torus) {
     uint64_t k = 0xcbf29ce484222325ULL;
-    const char *tag = "planetgen-synth-exemplar-v3";
+    const char *tag = "planetgen-synth-exemplar-v4";
     k = pg_synth_hash_bytes(k, tag, strlen(tag));
     int32_t ints[9] = {
         w, h, torus, p->face_size, p->dims, p->levels, p->k, p->patchmatch_iters, (int32_t)p->seed};
