@@ -167,9 +167,11 @@ static void jacobi_eigen(double *a, double *v, int n) {
 }
 
 /* Leading eigenvectors of P C P into ex->pca_basis[scale][1..dims-1]. */
-static void principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, int scale) {
+static int principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, int scale) {
     const int n = PG_SYNTH_RAW;
-    double *pc = malloc(sizeof(double) * n * n * 2), *vec = pc + n * n;
+    double *pc = malloc(sizeof(double) * n * n * 2);
+    if (!pc) return -1;
+    double *vec = pc + n * n;
     double ce[PG_SYNTH_RAW], ece = 0;
     for (int i = 0; i < n; i++) {
         ce[i] = 0;
@@ -196,6 +198,7 @@ static void principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, i
             ex->pca_basis[scale][c][k] = (float)(sign * vec[k * n + best]);
     }
     free(pc);
+    return 0;
 }
 
 static void project_all(const pg_synth_faces *f, pg_synth_exemplar *ex, int scale, float *out) {
@@ -258,8 +261,9 @@ pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_e
     }
     for (int i = 0; i < PG_SYNTH_RAW; i++)
         ex->pca_mean[scale][i] = (float)mean[i];
-    principal_axes(cov, e, ex, scale);
+    int bad = principal_axes(cov, e, ex, scale);
     free(mean);
+    if (bad) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
 
     size_t n = (size_t)f->nfaces * f->size * f->size;
     float *vals = calloc(n * PG_SYNTH_MAX_DIMS, sizeof(float));

@@ -216,7 +216,7 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
          "metres per input height unit (overrides the grey calibration)"},
         {"--height-offset", NULL, PG_OPT_DOUBLE, &a.height_offset, -1e6, 1e6, NULL, "M",
          "metres added after scaling"},
-        {"--face-size", NULL, PG_OPT_INT, &a.face_size, 16, 16384, NULL, "E",
+        {"--face-size", NULL, PG_OPT_INT, &a.face_size, 16, 8192, NULL, "E",
          "exemplar cube face size (default 512)"},
         {"--levels", NULL, PG_OPT_INT, &a.levels, 1, 10, NULL, "L",
          "analysed (corrected) levels (default 6)"},
