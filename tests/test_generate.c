@@ -150,7 +150,7 @@ static ratios seam_ratios(const run *r) {
     ratios q = {(s.seam.dh / s.seam.n) / (s.inner.dh / s.inner.n),
                 (s.seam.da / s.seam.n) / (s.inner.da / s.inner.n),
                 ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n)};
-    printf("  seam/interior: |dh| %.3f, |dalbedo| %.3f, coherent rate %.3f (interior rate "
+    printf("  seam/interior: |dh| %.3f, |dalbedo| %.3f, coherent rate %.4f (interior rate "
            "%.3f); face seams alone: |dh| %.3f, |dalbedo| %.3f, coherent %.3f\n",
            q.h, q.a, q.coh, (double)s.inner.coherent / s.inner.n,
            (s.face.dh / s.face.n) / (s.inner.dh / s.inner.n),
