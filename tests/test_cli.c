@@ -153,6 +153,13 @@ static void test_exemplar_success(void **s) {
     const char *keys[] = {"\"inputs\"", "\"parameters\"", "\"stages\"", "\"seconds\"",
                           "\"peak_rss_bytes\"", "\"land_fraction\""};
     for (size_t i = 0; i < sizeof keys / sizeof *keys; i++) assert_non_null(strstr(js, keys[i]));
+    /* a bare --json file name is written in the working directory */
+    snprintf(args, sizeof args, "exemplar -q -o '%s/out4' --json rel.json", dir);
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s", dir, pg_test_cli(), args);
+    assert_int_equal(system(cmd), 0);
+    snprintf(p, sizeof p, "%s/rel.json", dir);
+    assert_true(pg_test_file_nonempty(p));
     /* --quiet silences stdout and the stage lines */
     snprintf(args, sizeof args, "exemplar -q -o '%s/out2'", dir);
     assert_int_equal(pg_test_run_cli(args, out, sizeof out, err, sizeof err), 0);
@@ -163,6 +170,50 @@ static void test_exemplar_success(void **s) {
     assert_int_equal(pg_test_run_cli(args, out, sizeof out, err, sizeof err), 0);
     assert_non_null(strstr(err, "load exemplar done in"));
     assert_int_equal(count_lines(err), 2);
+}
+
+/* Grey albedo becomes RGB; an alpha channel is ignored with a note. */
+static void test_grey_and_alpha_albedo(void **s) {
+    (void)s;
+    char dir[1024], cmd[4096], out[8192], err[8192];
+    pg_test_scratch_dir("cli_channels", dir, sizeof dir);
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && oiiotool --pattern checker:width=8:height=8 64x32 1 -o grey.png", dir);
+    assert_int_equal(system(cmd), 0);
+    pg_image rgba;
+    pg_error e = {0};
+    assert_int_equal(pg_image_alloc(&rgba, 64, 32, 4, &e), PG_OK);
+    for (int i = 0; i < 64 * 32; i++) {
+        rgba.data[4 * i] = 0.2f, rgba.data[4 * i + 1] = 0.3f;
+        rgba.data[4 * i + 2] = 0.5f, rgba.data[4 * i + 3] = 0.7f; /* unassociated */
+    }
+    char p[1200];
+    snprintf(p, sizeof p, "%s/rgba.png", dir);
+    assert_int_equal(pg_image_write_png(p, &rgba, 8, &e), PG_OK);
+    pg_image_free(&rgba);
+    /* --height-scale skips the calibration, which needs Blue Marble's water */
+    snprintf(cmd, sizeof cmd, "exemplar --albedo '%s/grey.png' --height-scale 30 -o '%s/o1'", dir,
+             dir);
+    assert_int_equal(pg_test_run_cli(cmd, out, sizeof out, err, sizeof err), 0);
+    snprintf(p, sizeof p, "%s/o1/albedo.png", dir);
+    pg_image img;
+    assert_int_equal(pg_image_read(p, 0, &img, &e), PG_OK);
+    assert_int_equal(img.channels, 3); /* grey became RGB */
+    for (int i = 0; i < img.width * img.height; i++) {
+        assert_float_equal(img.data[3 * i], img.data[3 * i + 1], 0);
+        assert_float_equal(img.data[3 * i], img.data[3 * i + 2], 0);
+    }
+    pg_image_free(&img);
+    snprintf(cmd, sizeof cmd, "exemplar --albedo '%s/rgba.png' --height-scale 30 -o '%s/o2'", dir,
+             dir);
+    assert_int_equal(pg_test_run_cli(cmd, out, sizeof out, err, sizeof err), 0);
+    assert_non_null(strstr(out, "alpha/extra channels ignored"));
+    snprintf(p, sizeof p, "%s/o2/albedo.png", dir);
+    assert_int_equal(pg_image_read(p, 0, &img, &e), PG_OK);
+    assert_int_equal(img.channels, 3);
+    /* the colour is kept as it is, not multiplied by alpha 0.7 */
+    assert_float_equal(img.data[2] * img.unit_scale, 0.5, 1.0 / 255);
+    pg_image_free(&img);
 }
 
 /* Does dir contain a staged temporary file yet? */
@@ -258,7 +309,7 @@ int main(void) {
         cmocka_unit_test(test_nan_inf_heights),  cmocka_unit_test(test_bad_options),
         cmocka_unit_test(test_exemplar_success), cmocka_unit_test(test_sigterm_leaves_nothing),
         cmocka_unit_test(test_sigint_leaves_nothing), cmocka_unit_test(test_full_disk),
-        cmocka_unit_test(test_unwritable_output),
+        cmocka_unit_test(test_unwritable_output), cmocka_unit_test(test_grey_and_alpha_albedo),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

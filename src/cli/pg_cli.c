@@ -444,16 +444,14 @@ static pg_status stage_report(pg_cli *cli, pg_error *err) {
     pg_json_set_number(cli->report, "seconds_total", now_s() - cli->t_start);
     pg_json_set_number(cli->report, "peak_rss_bytes", pg_cli_peak_rss_bytes());
     pg_json_set_number(cli->report, "threads", omp_get_max_threads());
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", cli->json_path);
-    char *slash = strrchr(dir, '/');
-    const char *base = slash ? slash + 1 : dir;
+    /* Split --json into directory and file name; a bare name lives in ".". */
+    char dir[4096], name[4096];
+    const char *slash = strrchr(cli->json_path, '/');
+    snprintf(name, sizeof name, "%s", slash ? slash + 1 : cli->json_path);
     if (slash)
-        *slash = '\0';
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - cli->json_path), cli->json_path);
     else
         snprintf(dir, sizeof dir, ".");
-    char name[4096];
-    snprintf(name, sizeof name, "%s", base);
     const char *tmp = pg_cli_output_path(cli, dir[0] ? dir : "/", name);
     FILE *f = tmp ? fopen(tmp, "w") : NULL;
     if (!f) return pg_error_set(err, PG_ERR_IO, "--json %s: cannot write", cli->json_path);
