@@ -14,8 +14,9 @@
 #include <string.h>
 
 typedef struct exemplar_args {
-    const char *albedo, *height, *outdir;
-    double height_scale, height_offset, sea_level, max_mpx;
+    pg_cli_exemplar in;
+    const char *outdir;
+    double max_mpx;
     long grid_width;
     bool prepare; /* also prepare the synthesis exemplar and time it (cmd_synth.c) */
 } exemplar_args;
@@ -30,8 +31,8 @@ static void report_json(pg_cli *cli, const exemplar_args *a, const pg_exemplar *
     pg_json *p = pg_json_set_object(r, "parameters");
     pg_json_set_string(p, "outdir", a->outdir);
     pg_json_set_number(p, "grid_width", ex->width);
-    pg_json_set_number(p, "height_scale", a->height_scale);
-    pg_json_set_number(p, "height_offset", a->height_offset);
+    pg_json_set_number(p, "height_scale", a->in.height_scale);
+    pg_json_set_number(p, "height_offset", a->in.height_offset);
     pg_json_set_number(p, "sea_level_m", ex->sea_level);
     pg_json *res = pg_json_set_object(r, "results");
     pg_json_set_number(res, "albedo_width", ex->albedo_w);
@@ -49,8 +50,7 @@ static void report_json(pg_cli *cli, const exemplar_args *a, const pg_exemplar *
 }
 
 static void print_summary(pg_cli *cli, const pg_exemplar *ex, const pg_exemplar_stats *s) {
-    pg_cli_info(cli, "albedo   %s\n         %d x %d\n", ex->albedo_src, ex->albedo_w,
-                ex->albedo_h);
+    pg_cli_info(cli, "albedo   %s\n         %d x %d\n", ex->albedo_src, ex->albedo_w, ex->albedo_h);
     pg_cli_info(cli, "height   %s\n         %d x %d%s\n", ex->height_src, ex->height_w,
                 ex->height_h, ex->height_is_grey ? " (grey ramp, calibrated to metres)" : "");
     pg_cli_info(cli, "grid     %d x %d equirectangular, %.1f km per pixel at the equator\n",
@@ -77,11 +77,10 @@ static void print_summary(pg_cli *cli, const pg_exemplar *ex, const pg_exemplar_
 
 static pg_status write_previews(pg_cli *cli, const char *dir, const pg_exemplar *ex,
                                 pg_error *err) {
-    pg_image img = {.width = ex->width, .height = ex->height, .channels = 3,
-                    .data = ex->albedo};
+    pg_image img = {.width = ex->width, .height = ex->height, .channels = 3, .data = ex->albedo};
     const char *p = pg_cli_output_path(cli, dir, "albedo.png");
-    pg_status st = p ? pg_image_write_png(p, &img, 8, err)
-                     : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    pg_status st =
+        p ? pg_image_write_png(p, &img, 8, err) : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
     if (st != PG_OK) return st;
     pg_image rel;
     st = pg_image_alloc(&rel, ex->width, ex->height, 3, err);
@@ -94,47 +93,27 @@ static pg_status write_previews(pg_cli *cli, const char *dir, const pg_exemplar 
 }
 
 int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
-    exemplar_args a = {NULL, NULL, "out", NAN, NAN, NAN, 0, 0, false};
-    const pg_opt opts[] = {
-        {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
-         "global equirectangular albedo (default: Blue Marble from marble-qt-data)"},
-        {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
-         "global equirectangular height (default: Marble's tiled relief)"},
-        {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "DIR",
-         "output directory (default: out)"},
-        {"--height-scale", NULL, PG_OPT_DOUBLE, &a.height_scale, -1e6, 1e6, NULL, "M",
-         "metres per input unit (overrides the grey calibration)"},
-        {"--height-offset", NULL, PG_OPT_DOUBLE, &a.height_offset, -1e6, 1e6, NULL, "M",
-         "metres added after scaling"},
-        {"--sea-level", NULL, PG_OPT_DOUBLE, &a.sea_level, -12000, 12000, NULL, "M",
-         "sea level in metres (default 0)"},
-        {"--max-pixels", NULL, PG_OPT_DOUBLE, &a.max_mpx, 1, 1e5, NULL, "MPX",
-         "refuse input images above this many megapixels (default 2147)"},
-        {"--grid-width", NULL, PG_OPT_INT, &a.grid_width, 16, 86400, NULL, "W",
-         "common grid width, height W/2 (default: the coarser input's)"},
-        {"--prepare", NULL, PG_OPT_FLAG, &a.prepare, 0, 0, NULL, NULL,
-         "prepare the synthesis exemplar cube; report cold and cached times"},
-        PG_OPT_END};
+    exemplar_args a = {PG_CLI_EXEMPLAR_INIT, "out", 0, 0, false};
+    const pg_opt opts[] = {PG_CLI_EXEMPLAR_OPTS(a.in),
+                           {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "DIR",
+                            "output directory (default: out)"},
+                           {"--max-pixels", NULL, PG_OPT_DOUBLE, &a.max_mpx, 1, 1e5, NULL, "MPX",
+                            "refuse input images above this many megapixels (default 2147)"},
+                           {"--grid-width", NULL, PG_OPT_INT, &a.grid_width, 16, 86400, NULL, "W",
+                            "common grid width, height W/2 (default: the coarser input's)"},
+                           {"--prepare", NULL, PG_OPT_FLAG, &a.prepare, 0, 0, NULL, NULL,
+                            "prepare the synthesis exemplar cube; report cold and cached times"},
+                           PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 0, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "[--albedo F] [--height F] [-o DIR] [OPTIONS]",
-                          "Load a global albedo/height exemplar, print its geometry and "
-                          "statistics,\nand write equirectangular previews albedo.png and "
-                          "relief.png (shaded) to DIR.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc = pg_cli_parse_or_help(cli, opts, argc, argv, pos, 0, &npos,
+                                  "[--albedo F] [--height F] [-o DIR] [OPTIONS]",
+                                  "Load a global albedo/height exemplar, print its geometry and "
+                                  "statistics,\nand write equirectangular previews albedo.png "
+                                  "and relief.png (shaded) to DIR.");
+    if (rc >= 0) return rc;
     pg_exemplar_opts eo;
-    pg_exemplar_opts_default(&eo);
-    eo.albedo_path = a.albedo;
-    eo.height_path = a.height;
-    eo.height_scale = a.height_scale;
-    eo.height_offset = a.height_offset;
-    eo.sea_level = a.sea_level;
+    pg_cli_exemplar_opts(&a.in, &eo);
     eo.grid_width = (int)a.grid_width;
     eo.max_pixels = a.max_mpx > 0 ? (uint64_t)(a.max_mpx * 1e6) : 0;
     pg_error err = {0};

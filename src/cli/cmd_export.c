@@ -118,18 +118,14 @@ int pg_cmd_export(pg_cli *cli, int argc, char **argv) {
         PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 1, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "DIR [-o OUT] [--mesh-res M] [--exaggeration X] [OPTIONS]",
-                          "Export the planet in DIR (written by generate) as a glTF 2.0 globe\n"
-                          "(planet.glb), float heights (height.exr) and previews (albedo.png,\n"
-                          "relief.png, globe_*.png) into OUT. Existing files are replaced "
-                          "atomically.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc =
+        pg_cli_parse_or_help(cli, opts, argc, argv, pos, 1, &npos,
+                             "DIR [-o OUT] [--mesh-res M] [--exaggeration X] [OPTIONS]",
+                             "Export the planet in DIR (written by generate) as a glTF 2.0 globe\n"
+                             "(planet.glb), float heights (height.exr) and previews (albedo.png,\n"
+                             "relief.png, globe_*.png) into OUT. Existing files are replaced "
+                             "atomically.");
+    if (rc >= 0) return rc;
     if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (see --help)");
     if (!a.outdir) a.outdir = pos[0];
     pg_export_opts o;

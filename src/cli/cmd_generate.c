@@ -26,7 +26,7 @@
 
 typedef struct gen_args {
     const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
-    const char *albedo, *height;
+    pg_cli_exemplar in;
     long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
     double jitter, guide_weight, max_memory_gb;
     bool no_cache, independent, no_glb;
@@ -126,9 +126,7 @@ static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_pa
 static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
                                   char *src_name, size_t name_size, pg_error *err) {
     pg_exemplar_opts eo;
-    pg_exemplar_opts_default(&eo);
-    eo.albedo_path = a->albedo;
-    eo.height_path = a->height;
+    pg_cli_exemplar_opts(&a->in, &eo);
     pg_exemplar src;
     pg_status st = pg_exemplar_load(&eo, &src, err);
     if (st) return st;
@@ -306,7 +304,8 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
 }
 
 int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
-    gen_args a = {.outdir = "planet",
+    gen_args a = {.in = PG_CLI_EXEMPLAR_INIT,
+                  .outdir = "planet",
                   .pits = "on",
                   .final_pits = "breach",
                   .tiles = 4,
@@ -354,10 +353,7 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "width of the equirectangular previews (default 4 N, at most 2048)"},
         {"--no-glb", NULL, PG_OPT_FLAG, &a.no_glb, 0, 0, NULL, NULL,
          "do not write the glTF globe planet.glb"},
-        {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
-         "exemplar albedo (default: Blue Marble)"},
-        {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
-         "exemplar height (default: Marble's relief)"},
+        PG_CLI_EXEMPLAR_OPTS(a.in),
         {"--face-size", NULL, PG_OPT_INT, &a.face_size, 512, 4096, NULL, "E",
          "exemplar cube face size (512; 6 analysed levels need at least 512)"},
         {"--cache-dir", NULL, PG_OPT_STRING, &a.cache_dir, 0, 0, NULL, "DIR",
@@ -369,18 +365,13 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 0, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "[-o DIR] [--tiles T] [--tile-size S] [--seed N] [OPTIONS]",
-                          "Synthesize a whole planet by example on the cube sphere (Lefebvre-"
-                          "Hoppe per tile,\nneighbouring edges as constraints, Gain-pit pit "
-                          "removal) and write the planet\ndirectory, equirectangular previews, "
-                          "globe renders and planet.glb to DIR.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc = pg_cli_parse_or_help(
+        cli, opts, argc, argv, pos, 0, &npos,
+        "[-o DIR] [--tiles T] [--tile-size S] [--seed N] [OPTIONS]",
+        "Synthesize a whole planet by example on the cube sphere (Lefebvre-Hoppe per tile,\n"
+        "neighbouring edges as constraints, Gain-pit pit removal) and write the planet\n"
+        "directory, equirectangular previews, globe renders and planet.glb to DIR.");
+    if (rc >= 0) return rc;
     if ((rc = validate(cli, &a))) return rc;
     gen_inputs in;
     pg_error err = {0};

@@ -87,17 +87,12 @@ int pg_cmd_grid(pg_cli *cli, int argc, char **argv) {
                            PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 0, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "[--projection P] [--tiles T] [--tile-size S] [--planet E]",
-                          "Describe a cube-sphere grid: tile and texel counts, texel area "
-                          "min/max/ratio\non the ellipsoid, worst corner-angle deviation "
-                          "from 90 degrees, mean texel size.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc = pg_cli_parse_or_help(cli, opts, argc, argv, pos, 0, &npos,
+                                  "[--projection P] [--tiles T] [--tile-size S] [--planet E]",
+                                  "Describe a cube-sphere grid: tile and texel counts, texel area "
+                                  "min/max/ratio\non the ellipsoid, worst corner-angle deviation "
+                                  "from 90 degrees, mean texel size.");
+    if (rc >= 0) return rc;
     pg_error err = {0};
     pg_cube_projection p;
     pg_ellipsoid e;

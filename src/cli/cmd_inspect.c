@@ -19,7 +19,8 @@
 #include <string.h>
 
 typedef struct inspect_args {
-    const char *planet_dir, *views_dir, *albedo, *height;
+    pg_cli_exemplar in;
+    const char *planet_dir, *views_dir;
     long view_size;
 } inspect_args;
 
@@ -54,9 +55,7 @@ static int check_view_size(pg_cli *cli, long n) {
 
 static pg_status load_exemplar(const inspect_args *a, pg_exemplar *ex, pg_error *err) {
     pg_exemplar_opts o;
-    pg_exemplar_opts_default(&o);
-    o.albedo_path = a->albedo;
-    o.height_path = a->height;
+    pg_cli_exemplar_opts(&a->in, &o);
     return pg_exemplar_load(&o, ex, err);
 }
 
@@ -273,32 +272,24 @@ static int run(pg_cli *cli, inspect_args *a) {
 }
 
 int pg_cmd_inspect(pg_cli *cli, int argc, char **argv) {
-    inspect_args a = {NULL, NULL, NULL, NULL, PG_VIEWS_DEFAULT_SIZE};
+    inspect_args a = {PG_CLI_EXEMPLAR_INIT, NULL, NULL, PG_VIEWS_DEFAULT_SIZE};
     const pg_opt opts[] = {{"--view-size", NULL, PG_OPT_INT, &a.view_size, (double)LONG_MIN,
                             (double)LONG_MAX, NULL, "N",
                             "views are N x N px, N a power of two in 256..2048 (default 512)"},
                            {"--views", "-o", PG_OPT_STRING, &a.views_dir, 0, 0, NULL, "DIR",
                             "where to write the view PNGs (default OUTDIR/inspect)"},
-                           {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
-                            "the exemplar's albedo (default: Blue Marble, the default exemplar)"},
-                           {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
-                            "the exemplar's height (default: Marble's tiled relief)"},
+                           PG_CLI_EXEMPLAR_OPTS(a.in),
                            PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 1, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "OUTDIR [--json F] [--view-size N] [-o DIR]",
-                          "Report the realism figures of a planet directory: LPIPS-style pole\n"
-                          "and equator distances to the exemplar (fixed Gabor features, not\n"
-                          "learned LPIPS) and their ratio, the seam statistic, depressions and\n"
-                          "the projection's distortion; write the six views of the planet and\n"
-                          "of the exemplar (cube and equirect) as PNGs.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc = pg_cli_parse_or_help(
+        cli, opts, argc, argv, pos, 1, &npos, "OUTDIR [--json F] [--view-size N] [-o DIR]",
+        "Report the realism figures of a planet directory: LPIPS-style pole\n"
+        "and equator distances to the exemplar (fixed Gabor features, not\n"
+        "learned LPIPS) and their ratio, the seam statistic, depressions and\n"
+        "the projection's distortion; write the six views of the planet and\n"
+        "of the exemplar (cube and equirect) as PNGs.");
+    if (rc >= 0) return rc;
     if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (OUTDIR)");
     a.planet_dir = pos[0];
     if ((rc = check_view_size(cli, a.view_size))) return rc;

@@ -17,9 +17,10 @@
 #include <unistd.h>
 
 typedef struct synth_args {
-    const char *albedo, *height, *outdir, *cache_dir;
+    pg_cli_exemplar in;
+    const char *outdir, *cache_dir;
     long size, seed, passes, tile_size, face_size, levels;
-    double jitter, kappa, offset_penalty, height_scale, height_offset, height_weight;
+    double jitter, kappa, offset_penalty, height_weight;
     bool no_offsets, no_cache;
 } synth_args;
 
@@ -127,11 +128,7 @@ static void report(pg_cli *cli, const synth_args *a, const pg_synth_prep_info *p
 static pg_status load_and_prepare(const synth_args *a, pg_synth_exemplar **ex,
                                   pg_synth_prep_info *pi, pg_error *err) {
     pg_exemplar_opts eo;
-    pg_exemplar_opts_default(&eo);
-    eo.albedo_path = a->albedo;
-    eo.height_path = a->height;
-    eo.height_scale = a->height_scale;
-    eo.height_offset = a->height_offset;
+    pg_cli_exemplar_opts(&a->in, &eo);
     pg_exemplar src;
     pg_status st = pg_exemplar_load(&eo, &src, err);
     if (st) return st;
@@ -187,8 +184,8 @@ void pg_synth_cli_report_prep(pg_cli *cli, const pg_exemplar *src) {
 }
 
 int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
-    synth_args a = {NULL, NULL, "out", NULL, 0,   1,   2,   0,     512,
-                    6,    0.4,  0.1,   1.0,  NAN, NAN, 1.0, false, false};
+    synth_args a = {
+        PG_CLI_EXEMPLAR_INIT, "out", NULL, 0, 1, 2, 0, 512, 6, 0.4, 0.1, 1.0, 1.0, false, false};
     const pg_opt opts[] = {
         {"--size", NULL, PG_OPT_INT, &a.size, 1, 1e12, NULL, "N",
          "output is N x N texels, N a power of two (required)"},
@@ -208,14 +205,7 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
          "disable Gain et al. height offsets"},
         {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 0, 1 << 20, NULL, "T",
          "correct in T x T tiles (0: whole levels; the result is identical)"},
-        {"--albedo", NULL, PG_OPT_STRING, &a.albedo, 0, 0, NULL, "FILE",
-         "exemplar albedo (default: Blue Marble)"},
-        {"--height", NULL, PG_OPT_STRING, &a.height, 0, 0, NULL, "FILE",
-         "exemplar height (default: Marble's relief)"},
-        {"--height-scale", NULL, PG_OPT_DOUBLE, &a.height_scale, -1e6, 1e6, NULL, "M",
-         "metres per input height unit (overrides the grey calibration)"},
-        {"--height-offset", NULL, PG_OPT_DOUBLE, &a.height_offset, -1e6, 1e6, NULL, "M",
-         "metres added after scaling"},
+        PG_CLI_EXEMPLAR_OPTS(a.in),
         {"--face-size", NULL, PG_OPT_INT, &a.face_size, 16, 8192, NULL, "E",
          "exemplar cube face size (default 512)"},
         {"--levels", NULL, PG_OPT_INT, &a.levels, 1, 10, NULL, "L",
@@ -229,17 +219,12 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
         PG_OPT_END};
     const char *pos[1];
     int npos;
-    bool done;
-    int rc = pg_cli_parse(cli, opts, argc, argv, pos, 0, &npos, &done);
-    if (rc) return rc;
-    if (done) {
-        pg_cli_print_help(cli, "--size N [--seed S] [-o DIR] [OPTIONS]",
-                          "Synthesize an N x N flat terrain by example (Lefebvre-Hoppe with "
-                          "Gain et al.\nheight offsets) and write albedo.png, height.exr "
-                          "(metres) and coords.png to DIR.",
-                          opts, stdout);
-        return 0;
-    }
+    int rc = pg_cli_parse_or_help(cli, opts, argc, argv, pos, 0, &npos,
+                                  "--size N [--seed S] [-o DIR] [OPTIONS]",
+                                  "Synthesize an N x N flat terrain by example (Lefebvre-Hoppe "
+                                  "with Gain et al.\nheight offsets) and write albedo.png, "
+                                  "height.exr (metres) and coords.png to DIR.");
+    if (rc >= 0) return rc;
     if (a.size == 0) return pg_cli_usage_error(cli, "--size is required");
     if ((rc = validate(cli, &a))) return rc;
     pg_error err = {0};

@@ -39,7 +39,8 @@ void pg_cli_block_signals(void) {
 /* Remove staged temporaries; the caller holds cli->lock. Safe while writers still
  * have the files open: the names go, the data is freed when they close. */
 static void remove_staged_locked(pg_cli *cli) {
-    for (int i = 0; i < cli->nstaged; i++) unlink(cli->staged_tmp[i]);
+    for (int i = 0; i < cli->nstaged; i++)
+        unlink(cli->staged_tmp[i]);
     if (cli->created_dir) rmdir(cli->created_dir);
 }
 
@@ -109,7 +110,9 @@ static bool choice_ok(const char *choices, const char *v) {
 static int store_value(pg_cli *cli, const pg_opt *o, const char *v) {
     char *end = NULL;
     switch (o->kind) {
-    case PG_OPT_FLAG: *(bool *)o->dest = true; return 0;
+    case PG_OPT_FLAG:
+        *(bool *)o->dest = true;
+        return 0;
     case PG_OPT_STRING:
         if (!*v) return pg_cli_usage_error(cli, "%s: empty value", o->name);
         *(const char **)o->dest = v;
@@ -168,8 +171,8 @@ static int check_json_path(pg_cli *cli) {
         return pg_cli_usage_error(cli, "--json %s: directory '%s' does not exist", cli->json_path,
                                   dir);
     if (access(dir[0] ? dir : "/", W_OK) != 0)
-        return pg_cli_usage_error(cli, "--json %s: directory '%s' is not writable",
-                                  cli->json_path, dir);
+        return pg_cli_usage_error(cli, "--json %s: directory '%s' is not writable", cli->json_path,
+                                  dir);
     cli->report = pg_json_object();
     return 0;
 }
@@ -224,6 +227,25 @@ int pg_cli_parse(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const 
     }
     if (cli->threads > 0) omp_set_num_threads((int)cli->threads);
     return check_json_path(cli);
+}
+
+int pg_cli_parse_or_help(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const char **pos,
+                         int max_pos, int *npos, const char *usage, const char *description) {
+    bool done = false;
+    int rc = pg_cli_parse(cli, specs, argc, argv, pos, max_pos, npos, &done);
+    if (rc) return rc;
+    if (!done) return -1;
+    pg_cli_print_help(cli, usage, description, specs, stdout);
+    return 0;
+}
+
+void pg_cli_exemplar_opts(const pg_cli_exemplar *e, pg_exemplar_opts *o) {
+    pg_exemplar_opts_default(o);
+    o->albedo_path = e->albedo;
+    o->height_path = e->height;
+    o->height_scale = e->height_scale;
+    o->height_offset = e->height_offset;
+    o->sea_level = e->sea_level;
 }
 
 static void print_opt_table(const pg_opt *specs, FILE *f) {
@@ -286,7 +308,8 @@ void pg_cli_progress(pg_cli *cli, double frac) {
     if (frac > 1) frac = 1;
     int filled = (int)(frac * 30 + 0.5);
     char bar[31];
-    for (int i = 0; i < 30; i++) bar[i] = i < filled ? '#' : '.';
+    for (int i = 0; i < 30; i++)
+        bar[i] = i < filled ? '#' : '.';
     bar[30] = '\0';
     double el = t - cli->stage_t0;
     if (frac > 0.01)
@@ -300,8 +323,7 @@ void pg_cli_progress(pg_cli *cli, double frac) {
 void pg_cli_stage_end(pg_cli *cli) {
     double dt = now_s() - cli->stage_t0;
     if (cli->nstages < PG_STAGE_MAX) {
-        snprintf(cli->stages[cli->nstages].name, sizeof cli->stages[0].name, "%s",
-                 cli->stage_name);
+        snprintf(cli->stages[cli->nstages].name, sizeof cli->stages[0].name, "%s", cli->stage_name);
         cli->stages[cli->nstages].seconds = dt;
         cli->nstages++;
     }
@@ -379,10 +401,11 @@ pg_status pg_cli_commit(pg_cli *cli, pg_error *err) {
     pg_status st = PG_OK;
     for (int i = 0; i < cli->nstaged; i++) {
         if (rename(cli->staged_tmp[i], cli->staged_final[i]) != 0) {
-            pg_error_set(err, PG_ERR_IO, "%s: cannot rename into place: %s",
-                         cli->staged_final[i], strerror(errno));
+            pg_error_set(err, PG_ERR_IO, "%s: cannot rename into place: %s", cli->staged_final[i],
+                         strerror(errno));
             /* Remove what is not yet renamed; renamed files are complete. */
-            for (int j = i; j < cli->nstaged; j++) unlink(cli->staged_tmp[j]);
+            for (int j = i; j < cli->nstaged; j++)
+                unlink(cli->staged_tmp[j]);
             st = PG_ERR_IO;
             break;
         }
@@ -457,8 +480,7 @@ static pg_status stage_report(pg_cli *cli, pg_error *err) {
     if (!f) return pg_error_set(err, PG_ERR_IO, "--json %s: cannot write", cli->json_path);
     int wr = pg_json_write(cli->report, f);
     if (fclose(f) != 0 || wr != 0)
-        return pg_error_set(err, PG_ERR_IO, "--json %s: write failed (disk full?)",
-                            cli->json_path);
+        return pg_error_set(err, PG_ERR_IO, "--json %s: write failed (disk full?)", cli->json_path);
     return PG_OK;
 }
 

@@ -11,6 +11,9 @@
 #define PG_CLI_H
 
 #include "planetgen/pg_common.h"
+#include "planetgen/pg_exemplar.h"
+
+#include <math.h>
 
 #include <pthread.h>
 #include <stdbool.h>
@@ -35,17 +38,18 @@ typedef struct pg_opt {
     const char *help;
 } pg_opt;
 
-#define PG_OPT_END {NULL, NULL, PG_OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL}
+#define PG_OPT_END                                                                                 \
+    { NULL, NULL, PG_OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL }
 
 #define PG_STAGE_MAX 32
 
 /* Per-invocation state: everything a command needs, no globals. */
 typedef struct pg_cli {
-    const char *cmd;      /* subcommand name, for messages */
-    bool quiet, verbose;  /* common options */
+    const char *cmd;     /* subcommand name, for messages */
+    bool quiet, verbose; /* common options */
     const char *json_path;
-    long threads;         /* 0 = OpenMP default */
-    bool tty;             /* stderr is a terminal: draw a progress bar */
+    long threads; /* 0 = OpenMP default */
+    bool tty;     /* stderr is a terminal: draw a progress bar */
     double t_start;
     /* stages, for progress lines and the JSON report */
     int nstages;
@@ -83,16 +87,61 @@ int pg_cli_watch_signals(pg_cli *cli);
 int pg_cli_parse(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const char **pos,
                  int max_pos, int *npos, bool *done);
 
+/* pg_cli_parse, then --help: returns -1 when the command should go on, otherwise the
+ * exit code to return at once (0 after printing help, 2 after a usage error). */
+int pg_cli_parse_or_help(pg_cli *cli, const pg_opt *specs, int argc, char **argv, const char **pos,
+                         int max_pos, int *npos, const char *usage, const char *description);
+
+/* The exemplar inputs every command that reads an exemplar accepts, so that all of
+ * them take the same options with the same meaning. Declare a pg_cli_exemplar set to
+ * PG_CLI_EXEMPLAR_INIT, put PG_CLI_EXEMPLAR_OPTS(it) into the option array, and turn
+ * it into loader options with pg_cli_exemplar_opts. */
+typedef struct pg_cli_exemplar {
+    const char *albedo, *height;
+    double height_scale, height_offset, sea_level;
+} pg_cli_exemplar;
+
+#define PG_CLI_EXEMPLAR_INIT                                                                       \
+    { NULL, NULL, NAN, NAN, NAN }
+#define PG_CLI_EXEMPLAR_OPTS(e)                                                                      \
+    {"--albedo",                                                                                     \
+     NULL,                                                                                           \
+     PG_OPT_STRING,                                                                                  \
+     &(e).albedo,                                                                                    \
+     0,                                                                                              \
+     0,                                                                                              \
+     NULL,                                                                                           \
+     "FILE",                                                                                         \
+     "global equirectangular albedo (default: Blue Marble from marble-qt-data)"},                    \
+        {"--height",  NULL,   PG_OPT_STRING,                                                         \
+         &(e).height, 0,      0,                                                                     \
+         NULL,        "FILE", "global equirectangular height (default: Marble's tiled relief)"},     \
+        {"--height-scale",                                                                           \
+         NULL,                                                                                       \
+         PG_OPT_DOUBLE,                                                                              \
+         &(e).height_scale,                                                                          \
+         -1e6,                                                                                       \
+         1e6,                                                                                        \
+         NULL,                                                                                       \
+         "M",                                                                                        \
+         "metres per input height unit (overrides the grey calibration)"},                           \
+        {"--height-offset",           NULL, PG_OPT_DOUBLE, &(e).height_offset, -1e6, 1e6, NULL, "M", \
+         "metres added after scaling"},                                                              \
+    {                                                                                                \
+        "--sea-level", NULL, PG_OPT_DOUBLE, &(e).sea_level, -12000, 12000, NULL, "M",                \
+            "sea level in metres (default 0)"                                                        \
+    }
+
+void pg_cli_exemplar_opts(const pg_cli_exemplar *e, pg_exemplar_opts *o);
+
 /* Print the help text for a command: usage line plus option table. */
 void pg_cli_print_help(const pg_cli *cli, const char *usage, const char *description,
                        const pg_opt *specs, FILE *f);
 
 /* Messages: info goes to stdout unless --quiet; errors go to stderr as
  * "planetgen CMD: message". */
-void pg_cli_info(const pg_cli *cli, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
-void pg_cli_verbose(const pg_cli *cli, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+void pg_cli_info(const pg_cli *cli, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void pg_cli_verbose(const pg_cli *cli, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* Stages: a progress bar with ETA on a tty, else one line per stage; --quiet
  * silences both. pg_cli_progress(frac) updates the bar within a stage. */
