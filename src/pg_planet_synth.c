@@ -49,6 +49,24 @@ static int top_scale(const pg_synth_exemplar *ex) {
     return ex->levels - 1;
 }
 
+/* The synthesis copies exemplar texels one to one, so a planet whose faces have more
+ * texels than the exemplar cube's (the default: 1024 against 512) would show every
+ * exemplar feature at 1/m of its size, and with layout earth (coarsest texels at the
+ * same direction, m times closer in the exemplar than the synthesis spaces them) lay
+ * each feature down m times per axis: the Arctic archipelago became a lattice of
+ * repeated islands, Novaya Zemlya two parallel copies. So synthesize at N / m, the
+ * largest power-of-two reduction that keeps at least the exemplar's face size and a
+ * whole pyramid per tile, and magnify at delivery. */
+int pg_planet_synth_magnification(const pg_synth_exemplar *ex, const pg_planet_synth_params *p) {
+    const int64_t n = (int64_t)p->tiles * p->tile_size;
+    const int need = 1 << top_scale(ex);
+    int m = 1;
+    while (n / (2 * m) >= ex->face_size && p->tile_size % (2 * m) == 0 &&
+           (p->tile_size / (2 * m)) % need == 0)
+        m *= 2;
+    return m;
+}
+
 /* Bytes per finest texel, by phase (see pg_planet_synth_run for the order of
  * allocations): synthesis (S, V with borders, the parent level, orient, type mask,
  * guide, Gain-pit at the next-finest level) and delivery (planet 16, S and H 8, and
@@ -158,7 +176,9 @@ typedef struct ctx {
     const pg_synth_exemplar *ex;
     const pg_planet_synth_params *p;
     int T, S, s_top;
-    int64_t N;
+    int64_t N;    /* synthesized texels per face edge: Nout / m */
+    int64_t Nout; /* delivered texels per face edge: tiles * tile_size */
+    int m;        /* magnification from synthesized to delivered texels (a power of two) */
     border_map bm;
     /* types */
     bool use_types;
@@ -597,8 +617,10 @@ static pg_status ctx_init(ctx *c, const pg_synth_exemplar *ex, const pg_planet_s
     c->ex = ex;
     c->p = p;
     c->T = p->tiles;
-    c->S = p->tile_size;
-    c->N = (int64_t)p->tiles * p->tile_size;
+    c->m = pg_planet_synth_magnification(ex, p);
+    c->S = p->tile_size / c->m;
+    c->Nout = (int64_t)p->tiles * p->tile_size;
+    c->N = c->Nout / c->m;
     c->s_top = top_scale(ex);
     c->info = info;
     size_t nb = (size_t)6 * 4 * (c->N + 2), full = (size_t)6 * (c->N + 2) * (c->N + 2);
@@ -684,28 +706,91 @@ static pg_status synthesize(ctx *c, level *out, pg_error *err) {
 
 /* ------------------------------------ delivery ------------------------------------ */
 
-static void finest_heights(const ctx *c, const level *L, float *H) {
-    const int r = L->r;
-#pragma omp parallel for schedule(static)
-    for (int row = 0; row < 6 * r; row++) {
-        int f = row / r, y = row % r;
-        for (int x = 0; x < r; x++) {
-            size_t i = at(L, f, x, y);
-            H[((size_t)f * r + y) * r + x] =
-                c->ex->height[pg_synth_texel(c->ex, L->S[i])] + L->V[i];
-        }
+/* Delivery at Nout = m N texels per face edge. One synthesized texel stands for one
+ * exemplar texel of ground, so when the planet's faces are finer than the exemplar's
+ * (m > 1) the synthesized albedo and height are magnified with a cubic B-spline (texel
+ * centres aligned; the 4 x 4 taps read the level's one-texel border across face seams,
+ * clamped to it). Why a B-spline and not an interpolating kernel: every tile edge of
+ * the delivered planet is a synthesized-texel boundary, and an interpolating kernel
+ * makes the delivered steps across such a boundary systematically larger than those
+ * inside a synthesized texel, so tile edges would look like seams (default planet:
+ * albedo seam ratio 1.155 bilinear, 1.19 Catmull-Rom, 1.04 B-spline; the B-spline's
+ * smoothing is below the exemplar's own resolution). With m = 1 the synthesized texel
+ * is delivered as it is. */
+typedef struct texel_out {
+    float rgb[3], h;
+} texel_out;
+
+/* Cubic B-spline weights of the taps n - 1 .. n + 2 around t = s - n, 0 <= t < 1. */
+static void bspline3_weights(double t, double w[4]) {
+    double u = 1 - t;
+    w[0] = u * u * u / 6;
+    w[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
+    w[2] = (3 * u * u * u - 6 * u * u + 4) / 6;
+    w[3] = t * t * t / 6;
+}
+
+static void magnified_texel(const ctx *c, const level *L, int f, int64_t X, int64_t Y,
+                            texel_out *o) {
+    const int m = c->m, r = L->r;
+    if (m == 1) {
+        size_t i = at(L, f, (int)X, (int)Y), t = pg_synth_texel(c->ex, L->S[i]);
+        for (int j = 0; j < 3; j++)
+            o->rgb[j] = c->ex->albedo[t * 3 + j] * (1.0f / 255.0f);
+        o->h = c->ex->height[t] + (L->V ? L->V[i] : 0.0f);
+        return;
     }
+    double sx = (X + 0.5) / m - 0.5, sy = (Y + 0.5) / m - 0.5;
+    int x0 = (int)floor(sx), y0 = (int)floor(sy);
+    double wx[4], wy[4], acc[4] = {0};
+    bspline3_weights(sx - x0, wx);
+    bspline3_weights(sy - y0, wy);
+    for (int ky = 0; ky < 4; ky++)
+        for (int kx = 0; kx < 4; kx++) {
+            double w = wx[kx] * wy[ky];
+            int x = x0 - 1 + kx, y = y0 - 1 + ky;
+            x = x < -1 ? -1 : (x > r ? r : x);
+            y = y < -1 ? -1 : (y > r ? r : y);
+            size_t i = at(L, f, x, y);
+            size_t t = pg_synth_texel(c->ex, L->S[i]);
+            for (int j = 0; j < 3; j++)
+                acc[j] += w * c->ex->albedo[t * 3 + j];
+            acc[3] += w * (c->ex->height[t] + (L->V ? L->V[i] : 0.0f));
+        }
+    for (int j = 0; j < 3; j++)
+        o->rgb[j] = (float)(acc[j] * (1.0 / 255.0));
+    o->h = (float)acc[3];
+}
+
+/* Row `row` (face row / n, texel row row % n) of the delivered planet: heights into h,
+ * albedo into rgb, when not NULL. */
+static void deliver_row(const ctx *c, const level *L, int64_t row, float *h, float *rgb) {
+    const int64_t n = c->Nout;
+    const int f = (int)(row / n);
+    for (int64_t x = 0; x < n; x++) {
+        texel_out o;
+        magnified_texel(c, L, f, x, row % n, &o);
+        if (h) h[x] = o.h;
+        for (int k = 0; rgb && k < 3; k++)
+            rgb[x * 3 + k] = o.rgb[k];
+    }
+}
+
+static void finest_heights(const ctx *c, const level *L, float *H) {
+#pragma omp parallel for schedule(static)
+    for (int64_t row = 0; row < 6 * c->Nout; row++)
+        deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL);
 }
 
 static pg_status final_pits(ctx *c, float *H, pg_error *err) {
     const pg_planet_synth_params *p = c->p;
     pg_pits_topo topo;
-    pg_status st = pg_pits_topo_cube(&topo, (uint32_t)c->N, err);
+    pg_status st = pg_pits_topo_cube(&topo, (uint32_t)c->Nout, err);
     if (st) return st;
     pg_pits_opts o = pits_opts(c, p->final_method);
     pg_pits_area area = {0};
     area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
-                    (6.0 * (double)c->N * (double)c->N);
+                    (6.0 * (double)c->Nout * (double)c->Nout);
     double t0 = pg_synth_now();
     if (p->pit_stats) st = pg_pits_stats_compute(&topo, H, &o, &area, &c->info->before, err);
     double t1 = pg_synth_now();
@@ -717,23 +802,28 @@ static pg_status final_pits(ctx *c, float *H, pg_error *err) {
     return st;
 }
 
+/* Albedo (magnified), the heights H, and per delivered texel the exemplar coordinate of
+ * its synthesized texel (coords, types). */
 static void render(const ctx *c, const level *L, const float *H, pg_planet *out, uint32_t *coords) {
-    const int r = L->r;
+    const int64_t n = c->Nout;
+    const int r = L->r, m = c->m;
     uint64_t ok = 0;
 #pragma omp parallel for schedule(static) reduction(+ : ok)
-    for (int row = 0; row < 6 * r; row++) {
-        int f = row / r, y = row % r;
-        for (int x = 0; x < r; x++) {
-            uint32_t q = L->S[at(L, f, x, y)];
-            size_t t = pg_synth_texel(c->ex, q), j = (size_t)y * r + x;
-            for (int k = 0; k < 3; k++)
-                out->albedo[f][j * 3 + k] = c->ex->albedo[t * 3 + k] * (1.0f / 255.0f);
-            out->height[f][j] = H[(size_t)f * r * r + j];
-            if (coords) coords[(size_t)f * r * r + j] = q;
-            if (c->use_types) ok += (mask_at(c, r, f, x, y) >> c->etype[t]) & 1;
+    for (int64_t row = 0; row < 6 * n; row++) {
+        int f = (int)(row / n);
+        int64_t y = row % n;
+        deliver_row(c, L, row, NULL, out->albedo[f] + (size_t)y * n * 3);
+        memcpy(out->height[f] + (size_t)y * n, H + (size_t)row * n, (size_t)n * sizeof *H);
+        for (int64_t x = 0; x < n; x++) {
+            uint32_t q = L->S[at(L, f, (int)(x / m), (int)(y / m))];
+            if (coords) coords[(size_t)row * n + x] = q;
+            if (c->use_types)
+                ok += (mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
+                       c->etype[pg_synth_texel(c->ex, q)]) &
+                      1;
         }
     }
-    c->info->allowed_fraction = c->use_types ? (double)ok / (6.0 * r * r) : 1.0;
+    c->info->allowed_fraction = c->use_types ? (double)ok / (6.0 * n * n) : 1.0;
 }
 
 pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
@@ -755,7 +845,7 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     double t0 = pg_synth_now();
     if (!st) st = synthesize(&c, &L, err);
     info->synth_seconds = pg_synth_now() - t0;
-    size_t px = (size_t)6 * c.N * c.N;
+    size_t px = (size_t)6 * c.Nout * c.Nout;
     float *H = NULL;
     if (!st) {
         float *tmpV = NULL;
@@ -764,6 +854,7 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
         (void)tmpV;
     }
     if (!st) {
+        border_refresh(&c.bm, &L); /* the magnification reads across face seams */
         finest_heights(&c, &L, H);
         free(L.V); /* S stays for the albedo */
         L.V = NULL;

@@ -151,9 +151,17 @@ double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_par
 pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                                 pg_error *err);
 
+/* Magnification m from synthesized to delivered texels: one synthesized texel is one
+ * exemplar texel of ground, so a planet whose faces are at least twice as fine as the
+ * exemplar cube's is synthesized at N / m (m the largest power of two keeping
+ * N / m >= the exemplar's face size and whole pyramids per tile) and magnified (cubic
+ * B-spline) at delivery. The default planet (N = 1024, E = 512) has m = 2. */
+int pg_planet_synth_magnification(const pg_synth_exemplar *ex, const pg_planet_synth_params *p);
+
 /* Synthesize a planet: out is allocated (pg_planet_alloc, default projection, WGS84)
  * and filled with albedo and heights. Optionally returns the finest exemplar coordinates
- * (6*N*N, global texel ids; caller frees) for tests. */
+ * (6*N*N, global texel ids; caller frees) for tests; when magnified, each delivered texel
+ * gets the coordinate of its synthesized texel. */
 pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                               pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
                               pg_error *err);
