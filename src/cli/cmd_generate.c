@@ -179,12 +179,16 @@ static void report_depressions(pg_json *o, const char *key, const pg_pits_stats 
 
 static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
                    const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need,
-                   const pg_inspect_seams *seams) {
+                   const pg_inspect_seams *seams, int mag) {
     double mpx = 6.0 * (double)a->tiles * a->tiles * a->tile_size * a->tile_size / 1e6;
     pg_cli_info(cli, "exemplar %s in %.2f s\n", pi->from_cache ? "loaded from cache" : "prepared",
                 pi->seconds);
-    pg_cli_info(cli, "planet   6 x %ld^2 tiles of %ld^2 = %.1f Mpx in %.2f s (%.2f Mpx/s)\n",
-                a->tiles, a->tile_size, mpx, si->synth_seconds, mpx / si->synth_seconds);
+    /* Say how many texels were synthesized: a magnified planet delivers m^2 times more. */
+    pg_cli_info(cli,
+                "planet   6 x %ld^2 tiles of %ld^2 = %.1f Mpx; synthesized %.1f Mpx at the "
+                "exemplar's scale, magnified %dx; %.2f s (%.2f Mpx/s synthesized)\n",
+                a->tiles, a->tile_size, mpx, mpx / ((double)mag * mag), mag, si->synth_seconds,
+                mpx / ((double)mag * mag) / si->synth_seconds);
     if (!isnan(si->land_agreement))
         pg_cli_info(cli, "layout   land/ocean agreement with the exemplar %.1f%%\n",
                     100 * si->land_agreement);
@@ -234,6 +238,9 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_bool(res, "exemplar_from_cache", pi->from_cache);
     pg_json_set_number(res, "synth_seconds", si->synth_seconds);
     pg_json_set_number(res, "mpx_per_second", mpx / si->synth_seconds);
+    pg_json_set_number(res, "magnification", mag);
+    pg_json_set_number(res, "synthesized_mpx_per_second",
+                       mpx / ((double)mag * mag) / si->synth_seconds);
     pg_json_set_number(res, "gain_pit_seconds", si->pits_seconds);
     pg_json_set_number(res, "gain_pit_cells_changed", (double)si->pit_cells_changed);
     pg_json_set_number(res, "final_pits_seconds", si->final_pits_seconds);
@@ -278,6 +285,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     pg_planet_synth_info si;
     pg_cli_stage_begin(cli, "synthesize");
     pg_status st = pg_planet_synth_run(ex, &p, &planet, NULL, &si, &err);
+    const int mag = pg_planet_synth_magnification(ex, &p); /* ex is freed next */
     pg_cli_stage_end(cli);
     pg_synth_exemplar_free(ex);
     if (st) return pg_cli_fail(cli, &err);
@@ -299,7 +307,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     }
     pg_planet_free(&planet);
     if (st) return pg_cli_fail(cli, &err);
-    report(cli, a, &p, &pi, &si, need, &seams);
+    report(cli, a, &p, &pi, &si, need, &seams, mag);
     return pg_cli_finish(cli);
 }
 
