@@ -103,7 +103,7 @@ static void init_face(pm_ctx *c, int face) {
             size_t t = ((size_t)face * E + y) * E + x;
             uint32_t self = pg_synth_pack(face, x, y);
             for (int i = 0; i < c->kk; i++) {
-                c->table[t * c->kk + i] = self; /* placeholder: infinitely bad */
+                c->table[t * c->kk + i] = self; /* sentinel: infinitely bad until replaced */
                 c->dist[t * c->kk + i] = INT_MAX;
             }
             for (int a = 0; a < 4 * c->kk; a++)
@@ -123,7 +123,7 @@ static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
         ny &= E - 1;
         const uint32_t *ne = c->table + (((size_t)face * E + ny) * E + nx) * c->kk;
         for (int i = 0; i < c->kk; i++) {
-            if (ne[i] == pg_synth_pack(face, nx, ny)) continue; /* placeholder */
+            if (ne[i] == pg_synth_pack(face, nx, ny)) continue; /* still the sentinel */
             offer(c, self, t, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
         }
     }
@@ -187,7 +187,7 @@ pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, i
             scan_face(&c, face, it);
         fill_from_lattice(&c, face);
     }
-    /* a texel left with a placeholder (tiny exemplars only) gets any far texel */
+    /* a texel still holding the sentinel (tiny exemplars only) gets any far texel */
     for (size_t t = 0; t < n * c.kk; t++)
         if (c.dist[t] == INT_MAX) {
             size_t tex = t / c.kk;
