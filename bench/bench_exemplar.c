@@ -49,8 +49,9 @@ int main(int argc, char **argv) {
         best_load = t1 - t0 < best_load ? t1 - t0 : best_load;
         best_prev = t2 - t1 < best_prev ? t2 - t1 : best_prev;
     }
-    printf("exemplar load (2700x1350 albedo + 10800x5400 relief, calibrated): %.3f s (best of %d)\n",
-           best_load, reps);
+    printf(
+        "exemplar load (2700x1350 albedo + 10800x5400 relief, calibrated): %.3f s (best of %d)\n",
+        best_load, reps);
     printf("previews (albedo.png + relief.png, 2700x1350):                  %.3f s\n", best_prev);
     printf("peak RSS:                                                        %.0f MB\n", peak_mb());
     return 0;

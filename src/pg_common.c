@@ -27,12 +27,18 @@ int pg_status_exit_code(pg_status st) {
 
 const char *pg_status_name(pg_status st) {
     switch (st) {
-    case PG_OK: return "ok";
-    case PG_ERR_BADINPUT: return "bad input";
-    case PG_ERR_IO: return "i/o error";
-    case PG_ERR_NOMEM: return "out of memory";
-    case PG_ERR_RUNTIME: return "runtime error";
-    case PG_ERR_INTERRUPTED: return "interrupted";
+    case PG_OK:
+        return "ok";
+    case PG_ERR_BADINPUT:
+        return "bad input";
+    case PG_ERR_IO:
+        return "i/o error";
+    case PG_ERR_NOMEM:
+        return "out of memory";
+    case PG_ERR_RUNTIME:
+        return "runtime error";
+    case PG_ERR_INTERRUPTED:
+        return "interrupted";
     }
     return "unknown";
 }

@@ -31,17 +31,18 @@ void pg_equirect_sample(const float *img, int width, int height, int channels, d
     }
 }
 
-static void box_shrink(const float *src, int sw, int channels, int f, float *dst, int dw,
-                       int dh) {
+static void box_shrink(const float *src, int sw, int channels, int f, float *dst, int dw, int dh) {
     double inv = 1.0 / ((double)f * f);
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < dh; y++) {
         double acc[16];
         for (int x = 0; x < dw; x++) {
-            for (int c = 0; c < channels; c++) acc[c] = 0;
+            for (int c = 0; c < channels; c++)
+                acc[c] = 0;
             for (int j = 0; j < f; j++) {
                 const float *row = src + ((size_t)(y * f + j) * sw + (size_t)x * f) * channels;
-                for (int i = 0; i < f * channels; i++) acc[i % channels] += row[i];
+                for (int i = 0; i < f * channels; i++)
+                    acc[i % channels] += row[i];
             }
             for (int c = 0; c < channels; c++)
                 dst[((size_t)y * dw + x) * channels + c] = (float)(acc[c] * inv);

@@ -141,7 +141,8 @@ static pg_status load_inputs(const pg_exemplar_opts *o, pg_exemplar *ex, pg_imag
 /* Keep channel 0 only, in place. */
 static void first_channel(pg_image *img) {
     size_t n = (size_t)img->width * img->height;
-    for (size_t i = 0; i < n; i++) img->data[i] = img->data[i * img->channels];
+    for (size_t i = 0; i < n; i++)
+        img->data[i] = img->data[i * img->channels];
     img->channels = 1;
 }
 
@@ -172,7 +173,8 @@ static pg_status calibrate_grey(const pg_exemplar_opts *o, pg_exemplar *ex, pg_i
     if (st != PG_OK) return st;
     size_t n = (size_t)hgt->width * hgt->height;
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < n; i++) hgt->data[i] = pg_calibration_apply(&ex->calib, hgt->data[i]);
+    for (size_t i = 0; i < n; i++)
+        hgt->data[i] = pg_calibration_apply(&ex->calib, hgt->data[i]);
     return PG_OK;
 }
 
@@ -185,7 +187,8 @@ static pg_status heights_to_metres(const pg_exemplar_opts *o, pg_exemplar *ex, p
     double offset = isnan(o->height_offset) ? 0.0 : o->height_offset;
     ex->sea_level = isnan(o->sea_level) ? 0.0f : (float)o->sea_level;
     if (!grey || user_lin) {
-        for (size_t i = 0; i < n; i++) hgt->data[i] = (float)(hgt->data[i] * scale + offset);
+        for (size_t i = 0; i < n; i++)
+            hgt->data[i] = (float)(hgt->data[i] * scale + offset);
         return PG_OK;
     }
     ex->height_is_grey = true;
@@ -276,7 +279,8 @@ void pg_exemplar_compute_stats(const pg_exemplar *ex, pg_exemplar_stats *st) {
             if (h > ex->sea_level) land_w += w;
         }
     }
-    for (int c = 0; c < 3; c++) st->albedo_mean[c] = (float)(sum_a[c] / n);
+    for (int c = 0; c < 3; c++)
+        st->albedo_mean[c] = (float)(sum_a[c] / n);
     st->height_mean = (float)(sum_h / n);
     st->land_fraction = land_w / total_w;
 }

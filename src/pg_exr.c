@@ -36,9 +36,11 @@ static pg_status exr_fail(pg_error *err, pg_status st, const char *path, const e
 }
 
 static const char *default_channel_name(int nch, int c) {
-    static const char *const names[5][4] = {
-        {"", "", "", ""}, {"Y", "", "", ""}, {"Y", "A", "", ""}, {"R", "G", "B", ""},
-        {"R", "G", "B", "A"}};
+    static const char *const names[5][4] = {{"", "", "", ""},
+                                            {"Y", "", "", ""},
+                                            {"Y", "A", "", ""},
+                                            {"R", "G", "B", ""},
+                                            {"R", "G", "B", "A"}};
     return nch >= 1 && nch <= 4 ? names[nch][c] : "";
 }
 
@@ -172,8 +174,7 @@ static int find_part(exr_context_t ctxt, const char *want) {
     return -1;
 }
 
-pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out,
-                            pg_error *err) {
+pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out, pg_error *err) {
     memset(out, 0, sizeof *out);
     exr_msg m = {{0}};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;

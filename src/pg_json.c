@@ -37,7 +37,8 @@ pg_json *pg_json_array(void) {
 
 void pg_json_free(pg_json *j) {
     if (!j) return;
-    for (size_t i = 0; i < j->n; i++) pg_json_free(j->items[i]);
+    for (size_t i = 0; i < j->n; i++)
+        pg_json_free(j->items[i]);
     free(j->items);
     free(j->key);
     free(j->str);
@@ -142,11 +143,21 @@ static void write_string(const char *s, FILE *f) {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
         switch (*p) {
-        case '"': fputs("\\\"", f); break;
-        case '\\': fputs("\\\\", f); break;
-        case '\n': fputs("\\n", f); break;
-        case '\r': fputs("\\r", f); break;
-        case '\t': fputs("\\t", f); break;
+        case '"':
+            fputs("\\\"", f);
+            break;
+        case '\\':
+            fputs("\\\\", f);
+            break;
+        case '\n':
+            fputs("\\n", f);
+            break;
+        case '\r':
+            fputs("\\r", f);
+            break;
+        case '\t':
+            fputs("\\t", f);
+            break;
         default:
             if (*p < 0x20)
                 fprintf(f, "\\u%04x", *p);
@@ -167,9 +178,14 @@ static void write_node(const pg_json *j, FILE *f, int depth) {
         else
             fprintf(f, "%.10g", j->num);
         return;
-    case J_STRING: write_string(j->str, f); return;
-    case J_BOOL: fputs(j->b ? "true" : "false", f); return;
-    default: break;
+    case J_STRING:
+        write_string(j->str, f);
+        return;
+    case J_BOOL:
+        fputs(j->b ? "true" : "false", f);
+        return;
+    default:
+        break;
     }
     bool obj = j->type == J_OBJECT;
     if (j->n == 0) {

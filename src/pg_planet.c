@@ -48,8 +48,7 @@ double pg_planet_bytes(int tiles, int tile_size) {
     return 6.0 * n * n * 4.0 * sizeof(float);
 }
 
-pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples,
-                                  pg_error *err) {
+pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples, pg_error *err) {
     size_t nn = (size_t)p->n * (size_t)p->n;
     float *cube = malloc(6 * nn * 4 * sizeof(float));
     float *rgbh = malloc((size_t)ex->width * ex->height * 4 * sizeof(float));
@@ -126,7 +125,8 @@ static pg_status save_height(const pg_planet *p, pg_planet_path_fn path_for, voi
     const char *path = st == PG_OK ? path_for(PG_PLANET_HEIGHT_NAME, user) : NULL;
     if (st == PG_OK && !path) st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
     if (st == PG_OK) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, NULL, err);
-    for (int f = 0; f < PG_CUBE_NFACES; f++) pg_image_free(&parts[f]);
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        pg_image_free(&parts[f]);
     return st;
 }
 
@@ -146,7 +146,8 @@ static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void 
     pg_json_set_number(j, "sea_level_m", p->sea_level);
     pg_json_set_string(j, "exemplar", p->exemplar);
     pg_json *faces = pg_json_set_array(j, "faces");
-    for (int f = 0; f < PG_CUBE_NFACES; f++) pg_json_push_string(faces, pg_cube_face_name(f));
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        pg_json_push_string(faces, pg_cube_face_name(f));
     const char *path = path_for(PG_PLANET_META_NAME, user);
     FILE *fp = path ? fopen(path, "w") : NULL;
     pg_status st = PG_OK;

@@ -88,8 +88,9 @@ pg_status pg_exemplar_calibrate(const float *grey, const uint8_t *water, int wid
     /* Sea level sits between the last water grey and the first land grey. */
     float sea = best_t - 0.5f;
     if (sea <= gmin || sea >= gmax)
-        return pg_error_set(err, PG_ERR_BADINPUT, "cannot calibrate the relief: sea level grey "
-                                                  "%.1f is outside its range",
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "cannot calibrate the relief: sea level grey "
+                            "%.1f is outside its range",
                             sea);
     c->nknots = 3;
     c->grey[0] = (float)gmin;
@@ -184,13 +185,15 @@ pg_status pg_calibration_marble_refs(const pg_image *relief, pg_calibration *c, 
 double pg_exemplar_mask_agreement(const float *height, float sea_level, const uint8_t *water,
                                   size_t n) {
     size_t agree = 0;
-    for (size_t i = 0; i < n; i++) agree += (height[i] <= sea_level) == (water[i] != 0);
+    for (size_t i = 0; i < n; i++)
+        agree += (height[i] <= sea_level) == (water[i] != 0);
     return n ? (double)agree / (double)n : 0.0;
 }
 
 float pg_calibration_apply(const pg_calibration *c, float grey) {
     int k = 1;
-    while (k < c->nknots - 1 && grey > c->grey[k]) k++;
+    while (k < c->nknots - 1 && grey > c->grey[k])
+        k++;
     float g0 = c->grey[k - 1], g1 = c->grey[k];
     float t = (grey - g0) / (g1 - g0);
     return c->metres[k - 1] + t * (c->metres[k] - c->metres[k - 1]);

@@ -16,8 +16,10 @@ typedef struct tint_stop {
     float h, r, g, b;
 } tint_stop;
 
-static const tint_stop tint_sea[] = {{-11000, .02f, .05f, .20f}, {-6000, .05f, .12f, .35f},
-                                     {-3000, .10f, .25f, .55f},  {-200, .25f, .50f, .75f},
+static const tint_stop tint_sea[] = {{-11000, .02f, .05f, .20f},
+                                     {-6000, .05f, .12f, .35f},
+                                     {-3000, .10f, .25f, .55f},
+                                     {-200, .25f, .50f, .75f},
                                      {0, .45f, .70f, .85f}};
 static const tint_stop tint_land[] = {{0, .25f, .50f, .25f},    {300, .45f, .62f, .32f},
                                       {1000, .72f, .70f, .42f}, {2500, .60f, .45f, .30f},
@@ -65,7 +67,8 @@ void pg_relief_shade(const float *height, int width, int height_px, float sea_le
             else
                 tint(tint_land, 6, h, rgb);
             float *o = rgb_out + ((size_t)y * width + x) * 3;
-            for (int c = 0; c < 3; c++) o[c] = (float)fmin(1.0, rgb[c] * shade);
+            for (int c = 0; c < 3; c++)
+                o[c] = (float)fmin(1.0, rgb[c] * shade);
         }
     }
 }

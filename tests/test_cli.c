@@ -20,7 +20,8 @@ static char g_dir[1024]; /* scratch dir with the bad inputs */
 
 static int count_lines(const char *s) {
     int n = 0;
-    for (; *s; s++) n += *s == '\n';
+    for (; *s; s++)
+        n += *s == '\n';
     return n;
 }
 
@@ -30,7 +31,8 @@ static void write_exr_with(const char *name, float bad) {
     pg_image img;
     pg_error err = {0};
     assert_int_equal(pg_image_alloc(&img, 64, 32, 1, &err), PG_OK);
-    for (int i = 0; i < 64 * 32; i++) img.data[i] = (float)(i % 100) * 10.0f - 500.0f;
+    for (int i = 0; i < 64 * 32; i++)
+        img.data[i] = (float)(i % 100) * 10.0f - 500.0f;
     img.data[5 * 64 + 7] = bad;
     assert_int_equal(pg_image_write_exr(path, &img, NULL, &err), PG_OK);
     pg_image_free(&img);
@@ -86,10 +88,10 @@ static void test_help_version(void **s) {
 static void test_bad_files(void **s) {
     (void)s;
     char a[2048];
-#define BAD(fmt, file, needle)                                                                  \
-    do {                                                                                       \
-        snprintf(a, sizeof a, fmt, g_dir, file);                                               \
-        expect_bad(a, needle);                                                                 \
+#define BAD(fmt, file, needle)                                                                     \
+    do {                                                                                           \
+        snprintf(a, sizeof a, fmt, g_dir, file);                                                   \
+        expect_bad(a, needle);                                                                     \
     } while (0)
     BAD("exemplar --albedo '%s/%s'", "missing.jpg", "missing.jpg: No such file");
     BAD("exemplar --albedo '%s/%s'", "adir", "adir: is a directory");
@@ -150,9 +152,10 @@ static void test_exemplar_success(void **s) {
     size_t n = fread(js, 1, sizeof js - 1, f);
     js[n] = '\0';
     fclose(f);
-    const char *keys[] = {"\"inputs\"", "\"parameters\"", "\"stages\"", "\"seconds\"",
-                          "\"peak_rss_bytes\"", "\"land_fraction\""};
-    for (size_t i = 0; i < sizeof keys / sizeof *keys; i++) assert_non_null(strstr(js, keys[i]));
+    const char *keys[] = {"\"inputs\"",  "\"parameters\"",     "\"stages\"",
+                          "\"seconds\"", "\"peak_rss_bytes\"", "\"land_fraction\""};
+    for (size_t i = 0; i < sizeof keys / sizeof *keys; i++)
+        assert_non_null(strstr(js, keys[i]));
     /* a bare --json file name is written in the working directory */
     snprintf(args, sizeof args, "exemplar -q -o '%s/out4' --json rel.json", dir);
     char cmd[8192];
@@ -273,8 +276,8 @@ static void test_full_disk(void **s) {
     char dir[1024], cmd[4096], errp[1200], err[4096] = {0};
     pg_test_scratch_dir("cli_fulldisk", dir, sizeof dir);
     snprintf(errp, sizeof errp, "%s/stderr.txt", dir);
-    snprintf(cmd, sizeof cmd, "ulimit -f 500; '%s' exemplar -q -o '%s/out' 2>'%s'",
-             pg_test_cli(), dir, errp);
+    snprintf(cmd, sizeof cmd, "ulimit -f 500; '%s' exemplar -q -o '%s/out' 2>'%s'", pg_test_cli(),
+             dir, errp);
     int st = system(cmd);
     assert_true(WIFEXITED(st));
     assert_int_equal(WEXITSTATUS(st), 1);
@@ -305,11 +308,11 @@ static void test_unwritable_output(void **s) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_help_version),     cmocka_unit_test(test_bad_files),
-        cmocka_unit_test(test_nan_inf_heights),  cmocka_unit_test(test_bad_options),
-        cmocka_unit_test(test_exemplar_success), cmocka_unit_test(test_sigterm_leaves_nothing),
+        cmocka_unit_test(test_help_version),          cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_nan_inf_heights),       cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_exemplar_success),      cmocka_unit_test(test_sigterm_leaves_nothing),
         cmocka_unit_test(test_sigint_leaves_nothing), cmocka_unit_test(test_full_disk),
-        cmocka_unit_test(test_unwritable_output), cmocka_unit_test(test_grey_and_alpha_albedo),
+        cmocka_unit_test(test_unwritable_output),     cmocka_unit_test(test_grey_and_alpha_albedo),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -69,12 +69,12 @@ static void test_relief_assembly_size(void **state) {
 static void test_heights_in_metres(void **state) {
     fixture *f = *state;
     const pg_exemplar *ex = &f->ex;
-    assert_true(height_at(ex, 32, 90) > 4000);    /* Tibet */
-    assert_true(height_at(ex, 15, 88) < -1500);   /* Bay of Bengal */
-    assert_true(height_at(ex, -3.1, -60) < 400);  /* Amazon lowlands */
+    assert_true(height_at(ex, 32, 90) > 4000);   /* Tibet */
+    assert_true(height_at(ex, 15, 88) < -1500);  /* Bay of Bengal */
+    assert_true(height_at(ex, -3.1, -60) < 400); /* Amazon lowlands */
     assert_true(height_at(ex, -3.1, -60) > 0);
     assert_true(height_at(ex, 72.6, -38.5) > 2500); /* Greenland ice */
-    assert_true(height_at(ex, 25, -62) < -4500);  /* Atlantic abyss */
+    assert_true(height_at(ex, 25, -62) < -4500);    /* Atlantic abyss */
     pg_exemplar_stats s;
     pg_exemplar_compute_stats(ex, &s);
     /* plausible extremes: highest land about +8.8 km, deepest about -11 km (the
@@ -116,7 +116,8 @@ static void test_calibration_agrees_with_water_mask(void **state) {
     pg_exemplar_water_mask(ex->albedo, ex->width, ex->height, water);
     double agree = pg_exemplar_mask_agreement(ex->elevation, ex->sea_level, water, n);
     size_t nw = 0;
-    for (size_t i = 0; i < n; i++) nw += water[i];
+    for (size_t i = 0; i < n; i++)
+        nw += water[i];
     free(water);
     print_message("below-sea-level vs Blue Marble water: %.2f%% agree (%.1f%% water)\n",
                   100 * agree, 100.0 * nw / n);

@@ -63,7 +63,8 @@ static void test_exr_float_roundtrip(void **s) {
     pg_image a, b;
     pg_error err = {0};
     assert_int_equal(pg_image_alloc(&a, 61, 17, 1, &err), PG_OK);
-    for (int i = 0; i < 61 * 17; i++) a.data[i] = -10935.25f + 19.783f * i; /* metres */
+    for (int i = 0; i < 61 * 17; i++)
+        a.data[i] = -10935.25f + 19.783f * i; /* metres */
     assert_int_equal(pg_image_write_exr(path, &a, NULL, &err), PG_OK);
     /* both our OpenEXR-core reader and OpenImageIO must read back the exact floats */
     assert_int_equal(pg_image_read_exr(path, NULL, &b, &err), PG_OK);
@@ -87,7 +88,8 @@ static void test_exr_multipart(void **s) {
     pg_error err = {0};
     for (int p = 0; p < 3; p++) {
         assert_int_equal(pg_image_alloc(&parts[p], 16, 16, 1, &err), PG_OK);
-        for (int i = 0; i < 256; i++) parts[p].data[i] = p * 1000.0f + i;
+        for (int i = 0; i < 256; i++)
+            parts[p].data[i] = p * 1000.0f + i;
     }
     assert_int_equal(pg_exr_write_parts(path, 3, names, parts, NULL, &err), PG_OK);
     int n = 0;

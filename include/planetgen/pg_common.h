@@ -16,10 +16,10 @@ extern "C" {
 
 typedef enum pg_status {
     PG_OK = 0,
-    PG_ERR_BADINPUT, /* the caller's data or parameters are wrong: CLI exit 2 */
-    PG_ERR_IO,       /* the system failed us (disk full, permissions): CLI exit 1 */
-    PG_ERR_NOMEM,    /* allocation failed or would exceed a limit: CLI exit 1 */
-    PG_ERR_RUNTIME,  /* anything else that went wrong while working: CLI exit 1 */
+    PG_ERR_BADINPUT,   /* the caller's data or parameters are wrong: CLI exit 2 */
+    PG_ERR_IO,         /* the system failed us (disk full, permissions): CLI exit 1 */
+    PG_ERR_NOMEM,      /* allocation failed or would exceed a limit: CLI exit 1 */
+    PG_ERR_RUNTIME,    /* anything else that went wrong while working: CLI exit 1 */
     PG_ERR_INTERRUPTED /* a signal asked us to stop: CLI exit 1 */
 } pg_status;
 

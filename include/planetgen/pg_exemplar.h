@@ -60,9 +60,9 @@ typedef struct pg_exemplar {
     float sea_level;   /* metres */
     char albedo_src[512], height_src[512];
     int albedo_w, albedo_h, height_w, height_h; /* input sizes */
-    bool height_is_grey;  /* the height input was a grey ramp (calibrated) */
-    pg_calibration calib; /* valid when height_is_grey */
-    char notes[512];      /* e.g. "alpha channel ignored" */
+    bool height_is_grey;                        /* the height input was a grey ramp (calibrated) */
+    pg_calibration calib;                       /* valid when height_is_grey */
+    char notes[512];                            /* e.g. "alpha channel ignored" */
 } pg_exemplar;
 
 typedef struct pg_exemplar_stats {

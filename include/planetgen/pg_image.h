@@ -34,7 +34,7 @@ typedef struct pg_image {
     int width, height, channels;
     float *data; /* width*height*channels, interleaved, caller frees with pg_image_free */
     pg_sample_type src_type;
-    float unit_scale; /* multiply to get 0..1 for integer types; 1 for float types */
+    float unit_scale;     /* multiply to get 0..1 for integer types; 1 for float types */
     char format_name[32]; /* e.g. "jpeg", "png", "tiff", "openexr" */
 } pg_image;
 
@@ -47,8 +47,7 @@ typedef struct pg_image {
 pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_image *out, pg_error *err);
 
 /* Read just the geometry (no pixels). */
-pg_status pg_image_probe(const char *path, int *width, int *height, int *channels,
-                         pg_error *err);
+pg_status pg_image_probe(const char *path, int *width, int *height, int *channels, pg_error *err);
 
 void pg_image_free(pg_image *img);
 
@@ -68,8 +67,7 @@ pg_status pg_image_write_exr(const char *path, const pg_image *img, const char *
                              pg_error *err);
 
 /* Read a float EXR part by name (NULL = first part) through the OpenEXR C API. */
-pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out,
-                            pg_error *err);
+pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out, pg_error *err);
 
 #ifdef __cplusplus
 }

@@ -49,8 +49,7 @@ double pg_planet_bytes(int tiles, int tile_size);
 /* Fill a planet by reprojecting the exemplar (bilinear, `samples`^2 taps per
  * texel): the planet Earth itself, at this resolution. A reference for synthesis
  * and a fixture for export and inspection. */
-pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples,
-                                  pg_error *err);
+pg_status pg_planet_from_exemplar(pg_planet *p, const pg_exemplar *ex, int samples, pg_error *err);
 
 /* The file names of a planet directory. */
 void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png" */
@@ -60,8 +59,7 @@ void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png"
 /* Write each file to the path `path_for(name, user)` returns (the CLI stages
  * temporary names there); NULL from path_for is an out-of-memory error. */
 typedef const char *(*pg_planet_path_fn)(const char *name, void *user);
-pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,
-                         pg_error *err);
+pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user, pg_error *err);
 
 /* Load a planet directory written by pg_planet_save. Missing files are named in
  * the error; a directory without planet.json is "not a planet output". */

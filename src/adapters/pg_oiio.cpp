@@ -33,43 +33,90 @@ static pg_status check_path(const char *path, pg_error *err) {
 static std::string one_line(std::string s) {
     for (char &c : s)
         if (c == '\n' || c == '\r') c = ' ';
-    while (!s.empty() && s.back() == ' ') s.pop_back();
+    while (!s.empty() && s.back() == ' ')
+        s.pop_back();
     if (s.size() > 200) s = s.substr(0, 200) + "...";
     return s;
 }
 
 static bool map_type(TypeDesc t, pg_sample_type *st, float *scale) {
     switch (t.basetype) {
-    case TypeDesc::UINT8: *st = PG_SAMPLE_UINT8; *scale = 1.0f / 255.0f; return true;
-    case TypeDesc::INT8: *st = PG_SAMPLE_INT8; *scale = 1.0f / 127.0f; return true;
-    case TypeDesc::UINT16: *st = PG_SAMPLE_UINT16; *scale = 1.0f / 65535.0f; return true;
-    case TypeDesc::INT16: *st = PG_SAMPLE_INT16; *scale = 1.0f / 32767.0f; return true;
-    case TypeDesc::UINT32: *st = PG_SAMPLE_UINT32; *scale = 1.0f / 4294967295.0f; return true;
-    case TypeDesc::INT32: *st = PG_SAMPLE_INT32; *scale = 1.0f / 2147483647.0f; return true;
-    case TypeDesc::HALF: *st = PG_SAMPLE_HALF; *scale = 1.0f; return true;
-    case TypeDesc::FLOAT: *st = PG_SAMPLE_FLOAT; *scale = 1.0f; return true;
-    case TypeDesc::DOUBLE: *st = PG_SAMPLE_DOUBLE; *scale = 1.0f; return true;
-    default: return false;
+    case TypeDesc::UINT8:
+        *st = PG_SAMPLE_UINT8;
+        *scale = 1.0f / 255.0f;
+        return true;
+    case TypeDesc::INT8:
+        *st = PG_SAMPLE_INT8;
+        *scale = 1.0f / 127.0f;
+        return true;
+    case TypeDesc::UINT16:
+        *st = PG_SAMPLE_UINT16;
+        *scale = 1.0f / 65535.0f;
+        return true;
+    case TypeDesc::INT16:
+        *st = PG_SAMPLE_INT16;
+        *scale = 1.0f / 32767.0f;
+        return true;
+    case TypeDesc::UINT32:
+        *st = PG_SAMPLE_UINT32;
+        *scale = 1.0f / 4294967295.0f;
+        return true;
+    case TypeDesc::INT32:
+        *st = PG_SAMPLE_INT32;
+        *scale = 1.0f / 2147483647.0f;
+        return true;
+    case TypeDesc::HALF:
+        *st = PG_SAMPLE_HALF;
+        *scale = 1.0f;
+        return true;
+    case TypeDesc::FLOAT:
+        *st = PG_SAMPLE_FLOAT;
+        *scale = 1.0f;
+        return true;
+    case TypeDesc::DOUBLE:
+        *st = PG_SAMPLE_DOUBLE;
+        *scale = 1.0f;
+        return true;
+    default:
+        return false;
     }
 }
 
 // Convert raw samples to float without normalising, so integer heights keep units.
 template <typename T> static void widen(const void *src, float *dst, size_t n) {
     const T *s = static_cast<const T *>(src);
-    for (size_t i = 0; i < n; i++) dst[i] = static_cast<float>(s[i]);
+    for (size_t i = 0; i < n; i++)
+        dst[i] = static_cast<float>(s[i]);
 }
 
 static void widen_any(TypeDesc t, const void *src, float *dst, size_t n) {
     switch (t.basetype) {
-    case TypeDesc::UINT8: widen<uint8_t>(src, dst, n); break;
-    case TypeDesc::INT8: widen<int8_t>(src, dst, n); break;
-    case TypeDesc::UINT16: widen<uint16_t>(src, dst, n); break;
-    case TypeDesc::INT16: widen<int16_t>(src, dst, n); break;
-    case TypeDesc::UINT32: widen<uint32_t>(src, dst, n); break;
-    case TypeDesc::INT32: widen<int32_t>(src, dst, n); break;
-    case TypeDesc::FLOAT: std::memcpy(dst, src, n * sizeof(float)); break;
-    case TypeDesc::DOUBLE: widen<double>(src, dst, n); break;
-    default: break;
+    case TypeDesc::UINT8:
+        widen<uint8_t>(src, dst, n);
+        break;
+    case TypeDesc::INT8:
+        widen<int8_t>(src, dst, n);
+        break;
+    case TypeDesc::UINT16:
+        widen<uint16_t>(src, dst, n);
+        break;
+    case TypeDesc::INT16:
+        widen<int16_t>(src, dst, n);
+        break;
+    case TypeDesc::UINT32:
+        widen<uint32_t>(src, dst, n);
+        break;
+    case TypeDesc::INT32:
+        widen<int32_t>(src, dst, n);
+        break;
+    case TypeDesc::FLOAT:
+        std::memcpy(dst, src, n * sizeof(float));
+        break;
+    case TypeDesc::DOUBLE:
+        widen<double>(src, dst, n);
+        break;
+    default:
+        break;
     }
 }
 
@@ -146,12 +193,12 @@ extern "C" pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_ima
     if (max_pixels == 0) max_pixels = PG_IMAGE_DEFAULT_MAX_PIXELS;
     uint64_t npix = (uint64_t)spec.width * (uint64_t)spec.height;
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
-        return pg_error_set(err, PG_ERR_BADINPUT, "%s: unsupported image geometry %dx%dx%d",
-                            path, spec.width, spec.height, spec.depth);
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: unsupported image geometry %dx%dx%d", path,
+                            spec.width, spec.height, spec.depth);
     if (npix > max_pixels)
         return pg_error_set(err, PG_ERR_BADINPUT,
-                            "%s: %dx%d is %.0f Mpx, above the limit of %.0f Mpx", path,
-                            spec.width, spec.height, npix / 1e6, max_pixels / 1e6);
+                            "%s: %dx%d is %.0f Mpx, above the limit of %.0f Mpx", path, spec.width,
+                            spec.height, npix / 1e6, max_pixels / 1e6);
     pg_sample_type stype;
     float scale;
     if (!map_type(spec.format, &stype, &scale))
@@ -193,8 +240,7 @@ extern "C" pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_ima
     return PG_OK;
 }
 
-template <typename T>
-static std::vector<T> quantise(const pg_image *img, double maxv) {
+template <typename T> static std::vector<T> quantise(const pg_image *img, double maxv) {
     size_t n = (size_t)img->width * img->height * img->channels;
     std::vector<T> q(n);
     for (size_t i = 0; i < n; i++) {

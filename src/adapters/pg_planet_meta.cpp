@@ -45,8 +45,7 @@ extern "C" pg_status pg_planet_meta_read(const char *path, pg_planet_meta *m, pg
     if (!get_num(j, "radius_m", 1, 1e12, &v[1]))
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: radius_m missing or not > 0", path);
     if (!get_num(j, "flattening", 0, 0.999999, &v[2]))
-        return pg_error_set(err, PG_ERR_BADINPUT, "%s: flattening missing or outside [0, 1)",
-                            path);
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: flattening missing or outside [0, 1)", path);
     if (!get_num(j, "tiles", 1, 4096, &v[3]) || v[3] != std::floor(v[3]))
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: tiles missing or not in 1..4096", path);
     if (!get_num(j, "tile_size", 1, 8192, &v[4]) || v[4] != std::floor(v[4]) ||

@@ -26,7 +26,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     argv[argc++] = "fuzz";
     for (char *p = buf; argc < MAX_WORDS && p < buf + size;) {
         argv[argc++] = p;
-        while (p < buf + size && *p != '\n' && *p != '\0') p++;
+        while (p < buf + size && *p != '\n' && *p != '\0')
+            p++;
         *p++ = '\0';
     }
     argv[argc] = NULL;

@@ -47,8 +47,7 @@ static void slurp(const char *path, char *buf, size_t size) {
     fclose(f);
 }
 
-int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf,
-                    size_t err_size) {
+int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf, size_t err_size) {
     char outp[256], errp[256];
     snprintf(outp, sizeof outp, "/tmp/pg_test_out.%d", (int)getpid());
     snprintf(errp, sizeof errp, "/tmp/pg_test_err.%d", (int)getpid());

@@ -19,8 +19,7 @@ void pg_test_scratch_dir(const char *tag, char *out, size_t out_size);
 
 /* Run the CLI with a shell-quoted argument string; capture stderr (and stdout) into
  * the caller's buffers (may be NULL). Returns the exit code, or -1 if it was killed. */
-int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf,
-                    size_t err_size);
+int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf, size_t err_size);
 
 /* Number of regular files (recursively) under dir; 0 if dir does not exist. */
 int pg_test_count_files(const char *dir);
