@@ -21,17 +21,6 @@
 #include <time.h>
 #include <unistd.h>
 
-typedef struct dir_ctx {
-    char dir[1200];
-    char buf[1300];
-} dir_ctx;
-
-static const char *in_dir(const char *name, void *user) {
-    dir_ctx *c = user;
-    snprintf(c->buf, sizeof c->buf, "%s/%s", c->dir, name);
-    return c->buf;
-}
-
 static double now_s(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -61,10 +50,8 @@ static int make_planet(int tiles, int size, const char *dir) {
         return 1;
     }
     pg_exemplar_free(&ex);
-    dir_ctx c;
-    snprintf(c.dir, sizeof c.dir, "%s", dir);
     mkdir(dir, 0777);
-    pg_status st = pg_planet_save(&p, in_dir, &c, &err);
+    pg_status st = pg_planet_save_dir(&p, dir, &err);
     pg_planet_free(&p);
     if (st) fprintf(stderr, "bench_export: %s\n", err.msg);
     return st != PG_OK;
@@ -80,8 +67,7 @@ static int export_child(const char *dir, const char *out) {
         return 1;
     }
     double t_load = now_s() - t0;
-    dir_ctx c;
-    snprintf(c.dir, sizeof c.dir, "%s", out);
+    pg_dir_paths c = {.dir = out};
     mkdir(out, 0777);
     const char *part[3] = {"glb", "exr", "previews"};
     double t[3], cpu[3];
@@ -91,7 +77,7 @@ static int export_child(const char *dir, const char *out) {
         pg_export_opts_default(&o);
         o.glb = k == 0, o.exr = k == 1, o.previews = k == 2;
         double s = now_s(), cs = cpu_s();
-        if (pg_export_write(&p, &o, in_dir, &c, &r, &err) != PG_OK) {
+        if (pg_export_write(&p, &o, pg_dir_path, &c, &r, &err) != PG_OK) {
             fprintf(stderr, "bench_export: %s: %s\n", part[k], err.msg);
             return 1;
         }

@@ -170,6 +170,17 @@ pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *u
     return st;
 }
 
+const char *pg_dir_path(const char *name, void *user) {
+    pg_dir_paths *d = user;
+    snprintf(d->buf, sizeof d->buf, "%s/%s", d->dir, name);
+    return d->buf;
+}
+
+pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err) {
+    pg_dir_paths d = {.dir = dir};
+    return pg_planet_save(p, pg_dir_path, &d, err);
+}
+
 static pg_status load_faces(const char *dir, pg_planet *p, pg_error *err) {
     char path[4096];
     for (int f = 0; f < PG_CUBE_NFACES; f++) {

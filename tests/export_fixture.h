@@ -14,17 +14,6 @@
 #include <string.h>
 #include <sys/wait.h>
 
-typedef struct fixture_stage {
-    char dir[1024];
-    char buf[1200];
-} fixture_stage;
-
-static inline const char *fixture_path(const char *name, void *user) {
-    fixture_stage *c = user;
-    snprintf(c->buf, sizeof c->buf, "%s/%s", c->dir, name);
-    return c->buf;
-}
-
 /* The Earth reprojected onto a planet of 6 x tiles^2 x tile_size^2, saved as a
  * planet directory in the scratch dir `tag`; the path goes to dir. */
 static inline void fixture_planet_dir(const char *tag, int tiles, int tile_size, char *dir,
@@ -41,10 +30,8 @@ static inline void fixture_planet_dir(const char *tag, int tiles, int tile_size,
         PG_OK);
     p.seed = 42;
     assert_int_equal(pg_planet_from_exemplar(&p, &ex, 2, &err), PG_OK);
-    fixture_stage st;
-    pg_test_scratch_dir(tag, st.dir, sizeof st.dir);
-    assert_int_equal(pg_planet_save(&p, fixture_path, &st, &err), PG_OK);
-    snprintf(dir, size, "%s", st.dir);
+    pg_test_scratch_dir(tag, dir, size);
+    assert_int_equal(pg_planet_save_dir(&p, dir, &err), PG_OK);
     pg_planet_free(&p);
     pg_exemplar_free(&ex);
 }

@@ -32,16 +32,7 @@ typedef struct fixture {
     pg_exemplar ex;
     pg_planet earth;
     char dir[1024]; /* the Earth planet saved as a planet directory */
-    char buf[1200];
 } fixture;
-
-static const char *path_in_dir(const char *name, void *user) {
-    fixture *fx = user;
-    char tmp[1200];
-    snprintf(tmp, sizeof tmp, "%s/%s", fx->dir, name);
-    memcpy(fx->buf, tmp, sizeof tmp);
-    return fx->buf;
-}
 
 static int setup(void **state) {
     fixture *fx = calloc(1, sizeof *fx);
@@ -56,7 +47,7 @@ static int setup(void **state) {
         return -1;
     }
     pg_test_scratch_dir("inspect_earth", fx->dir, sizeof fx->dir);
-    if (pg_planet_save(&fx->earth, path_in_dir, fx, &err) != PG_OK) {
+    if (pg_planet_save_dir(&fx->earth, fx->dir, &err) != PG_OK) {
         fprintf(stderr, "%s\n", err.msg);
         return -1;
     }

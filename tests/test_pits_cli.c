@@ -238,12 +238,6 @@ static void test_bad_input(void **state) {
     assert_int_equal(pg_test_count_files(outdir), 0); /* nothing left behind */
 }
 
-static const char *in_dir(const char *name, void *user) {
-    static char buf[2048];
-    snprintf(buf, sizeof buf, "%s/%s", (const char *)user, name);
-    return buf;
-}
-
 /* --stats PLANET_DIR counts globally across seams, as the library does. */
 static void test_planet_stats(void **state) {
     (void)state;
@@ -259,7 +253,7 @@ static void test_planet_stats(void **state) {
     char pdir[1200], args[4096], so[8192], se[4096];
     snprintf(pdir, sizeof pdir, "%s/planet", dir);
     mkdir(pdir, 0755);
-    assert_int_equal(pg_planet_save(&p, in_dir, pdir, NULL), PG_OK);
+    assert_int_equal(pg_planet_save_dir(&p, pdir, NULL), PG_OK);
     /* the library's count */
     size_t nn = (size_t)p.n * p.n;
     float *h = malloc(6 * nn * sizeof *h);

@@ -9,19 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct stage_ctx {
-    char dir[1024];
-    char buf[1200];
-} stage_ctx;
-
-static const char *path_in_dir(const char *name, void *user) {
-    stage_ctx *c = user;
-    char tmp[1200];
-    snprintf(tmp, sizeof tmp, "%s/%s", c->dir, name);
-    memcpy(c->buf, tmp, sizeof tmp);
-    return c->buf;
-}
-
 static void test_roundtrip_real_exemplar(void **s) {
     (void)s;
     pg_error err = {0};
@@ -39,11 +26,11 @@ static void test_roundtrip_real_exemplar(void **s) {
     int64_t c = (p.n / 2) * p.n + p.n / 2;
     assert_true(p.height[PG_CUBE_FACE_PZ][c] < 0);
     assert_true(p.height[PG_CUBE_FACE_NZ][c] > 2000);
-    stage_ctx ctx;
-    pg_test_scratch_dir("planet_rt", ctx.dir, sizeof ctx.dir);
-    assert_int_equal(pg_planet_save(&p, path_in_dir, &ctx, &err), PG_OK);
-    assert_int_equal(pg_test_count_files(ctx.dir), 8);
-    assert_int_equal(pg_planet_load(ctx.dir, &q, &err), PG_OK);
+    char dir[1024];
+    pg_test_scratch_dir("planet_rt", dir, sizeof dir);
+    assert_int_equal(pg_planet_save_dir(&p, dir, &err), PG_OK);
+    assert_int_equal(pg_test_count_files(dir), 8);
+    assert_int_equal(pg_planet_load(dir, &q, &err), PG_OK);
     assert_int_equal(q.n, p.n);
     assert_int_equal(q.tiles, 2);
     assert_int_equal(q.projection, PG_CUBE_EQUIANGULAR);
@@ -58,16 +45,16 @@ static void test_roundtrip_real_exemplar(void **s) {
     pg_planet_free(&q);
     /* a missing face file is named */
     char path[1300];
-    snprintf(path, sizeof path, "%s/albedo_-Y.png", ctx.dir);
+    snprintf(path, sizeof path, "%s/albedo_-Y.png", dir);
     remove(path);
     pg_error_clear(&err);
-    assert_int_equal(pg_planet_load(ctx.dir, &q, &err), PG_ERR_BADINPUT);
+    assert_int_equal(pg_planet_load(dir, &q, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "missing albedo_-Y.png"));
     /* a directory without planet.json is not a planet */
-    snprintf(path, sizeof path, "%s/planet.json", ctx.dir);
+    snprintf(path, sizeof path, "%s/planet.json", dir);
     remove(path);
     pg_error_clear(&err);
-    assert_int_equal(pg_planet_load(ctx.dir, &q, &err), PG_ERR_BADINPUT);
+    assert_int_equal(pg_planet_load(dir, &q, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "not a planet output"));
     pg_planet_free(&p);
     pg_exemplar_free(&ex);

@@ -61,6 +61,19 @@ void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png"
 typedef const char *(*pg_planet_path_fn)(const char *name, void *user);
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user, pg_error *err);
 
+/* A pg_planet_path_fn (also usable with pg_export_write) that names files straight
+ * inside d->dir, no temporary names: pass a pg_dir_paths as `user`. */
+typedef struct pg_dir_paths {
+    const char *dir;
+    char buf[4096];
+} pg_dir_paths;
+const char *pg_dir_path(const char *name, void *user);
+
+/* Save straight into an existing directory, file by file (no temporary names): for
+ * tools and tests that build a planet directory. The CLI stages through
+ * pg_planet_save instead, so that a failed run leaves nothing. */
+pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err);
+
 /* Load a planet directory written by pg_planet_save. Missing files are named in
  * the error; a directory without planet.json is "not a planet output". */
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err);

@@ -12,17 +12,6 @@
 
 #include <string.h>
 
-typedef struct dir_ctx {
-    const char *dir;
-    char buf[600];
-} dir_ctx;
-
-static const char *path_in(const char *name, void *user) {
-    dir_ctx *c = user;
-    snprintf(c->buf, sizeof c->buf, "%s/%s", c->dir, name);
-    return c->buf;
-}
-
 static void ensure_planet(const char *dir) {
     char meta[600];
     snprintf(meta, sizeof meta, "%s/planet.json", dir);
@@ -37,8 +26,7 @@ static void ensure_planet(const char *dir) {
             p.height[f][i] = (float)(i * 3 - 200 * f);
             p.albedo[f][3 * i] = 0.1f * f;
         }
-    dir_ctx ctx = {.dir = dir};
-    pg_planet_save(&p, path_in, &ctx, &err);
+    pg_planet_save_dir(&p, dir, &err);
     pg_planet_free(&p);
     char cmd[2048];
     snprintf(cmd, sizeof cmd, "mkdir -p '%s/orig' && cp '%s'/*.* '%s/orig/'", dir, dir, dir);
