@@ -23,7 +23,12 @@ const char *pg_test_source_dir(void) {
     return env_or_die("PG_SOURCE_DIR");
 }
 
+/* PG_CLI_WRAPPER, when set, replaces the CLI path: scripts/valgrind-suite points it at
+ * a wrapper that runs $PG_CLI under valgrind, so every CLI process a test spawns is
+ * checked too. The wrapper execs, so signals sent to its pid reach the CLI. */
 const char *pg_test_cli(void) {
+    const char *w = getenv("PG_CLI_WRAPPER");
+    if (w && *w) return w;
     return env_or_die("PG_CLI");
 }
 

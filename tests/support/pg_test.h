@@ -9,7 +9,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-/* Paths from ctest's environment (PG_SOURCE_DIR, PG_BUILD_DIR, PG_CLI). */
+/* Paths from ctest's environment (PG_SOURCE_DIR, PG_BUILD_DIR, PG_CLI; PG_CLI_WRAPPER,
+ * when set, is returned by pg_test_cli instead of PG_CLI). */
 const char *pg_test_source_dir(void);
 const char *pg_test_cli(void);
 
