@@ -16,7 +16,7 @@
 typedef struct exemplar_args {
     pg_cli_exemplar in;
     const char *outdir;
-    double max_mpx;
+    double max_mpx, max_memory_gb;
     long grid_width;
     bool prepare; /* also prepare the synthesis exemplar and time it (cmd_synth.c) */
 } exemplar_args;
@@ -93,7 +93,7 @@ static pg_status write_previews(pg_cli *cli, const char *dir, const pg_exemplar 
 }
 
 int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
-    exemplar_args a = {PG_CLI_EXEMPLAR_INIT, "out", 0, 0, false};
+    exemplar_args a = {PG_CLI_EXEMPLAR_INIT, "out", 0, 0, 0, false};
     const pg_opt opts[] = {PG_CLI_EXEMPLAR_OPTS(a.in),
                            {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "DIR",
                             "output directory (default: out)"},
@@ -103,6 +103,7 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
                             "common grid width, height W/2 (default: the coarser input's)"},
                            {"--prepare", NULL, PG_OPT_FLAG, &a.prepare, 0, 0, NULL, NULL,
                             "prepare the synthesis exemplar cube; report cold and cached times"},
+                           PG_CLI_MAX_MEMORY_OPT(a.max_memory_gb),
                            PG_OPT_END};
     const char *pos[1];
     int npos;
@@ -116,6 +117,12 @@ int pg_cmd_exemplar(pg_cli *cli, int argc, char **argv) {
     pg_cli_exemplar_opts(&a.in, &eo);
     eo.grid_width = (int)a.grid_width;
     eo.max_pixels = a.max_mpx > 0 ? (uint64_t)(a.max_mpx * 1e6) : 0;
+    /* --prepare adds the exemplar cube, far smaller than the loaded pair it is made of */
+    char what[2048];
+    snprintf(what, sizeof what, "exemplar %s + %s", eo.albedo_path ? eo.albedo_path : "Blue Marble",
+             eo.height_path ? eo.height_path : "Marble relief");
+    if ((rc = pg_cli_check_memory(cli, what, pg_cli_exemplar_bytes(&eo), a.max_memory_gb)))
+        return rc;
     pg_error err = {0};
     pg_exemplar ex;
     /* The output dir is checked first (and removed again if we fail), so an

@@ -2,8 +2,9 @@
  * with the Lefebvre-Hoppe engine (pg_synth.h) and write albedo.png, height.exr and
  * coords.png (a debug colouring of the exemplar coordinates).
  *
- * Every input is validated before any work or output: N a power of two that fits in
- * memory (the estimate is shown), jitter in [0, 1], a numeric seed. The exemplar is
+ * Every input is validated before any work or output: N a power of two whose
+ * estimated peak memory fits in the available memory or --max-memory (the estimate is
+ * shown when it does not), jitter in [0, 1], a numeric seed. The exemplar is
  * prepared through the on-disk cache, so only the first run pays the analysis. */
 #include "pg_commands.h"
 
@@ -14,13 +15,12 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 typedef struct synth_args {
     pg_cli_exemplar in;
     const char *outdir, *cache_dir;
     long size, seed, passes, tile_size, face_size, levels;
-    double jitter, kappa, offset_penalty, height_weight;
+    double jitter, kappa, offset_penalty, height_weight, max_memory_gb;
     bool no_offsets, no_cache;
 } synth_args;
 
@@ -28,22 +28,22 @@ typedef struct synth_args {
  * float image the PNG writer takes. */
 #define OUTPUT_BYTES_PER_TEXEL (3 + 4 + 3 + 12)
 
-static double physical_bytes(void) {
-    long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
-    return pages > 0 && psz > 0 ? (double)pages * psz : 8e9;
-}
-
 static int validate(pg_cli *cli, const synth_args *a) {
     if (a->size < 16 || (a->size & (a->size - 1)) != 0)
         return pg_cli_usage_error(cli, "--size %ld: must be a power of two >= 16", a->size);
-    double need = pg_synth_flat_bytes((int)(a->size > 1 << 20 ? 1 << 20 : a->size)) +
-                  (double)a->size * a->size * OUTPUT_BYTES_PER_TEXEL + 300e6;
-    double have = physical_bytes();
-    if (a->size > (1L << 20) || need > 0.8 * have)
-        return pg_cli_usage_error(cli,
-                                  "--size %ld: needs about %.1f GB of memory, more than 80%% of "
-                                  "this machine's %.1f GB",
-                                  a->size, need / 1e9, have / 1e9);
+    /* pg_synth_flat_bytes takes an int; beyond 2^20 its n^2 (S + V, the level and its
+     * parent: 8 B x 1.25) is computed here in doubles */
+    double n2 = (double)a->size * a->size;
+    double need = (a->size > (1L << 20) ? n2 * 8 * 1.25 : pg_synth_flat_bytes((int)a->size)) +
+                  n2 * OUTPUT_BYTES_PER_TEXEL;
+    /* the exemplar's share: loading the pair; the prepared cube is smaller and replaces it */
+    pg_exemplar_opts eo;
+    pg_cli_exemplar_opts(&a->in, &eo);
+    need += pg_cli_exemplar_bytes(&eo);
+    char what[64];
+    snprintf(what, sizeof what, "--size %ld", a->size);
+    int rc = pg_cli_check_memory(cli, what, need, a->max_memory_gb);
+    if (rc) return rc;
     if (a->face_size < 16 || (a->face_size & (a->face_size - 1)) != 0)
         return pg_cli_usage_error(cli, "--face-size %ld: must be a power of two >= 16",
                                   a->face_size);
@@ -185,7 +185,7 @@ void pg_synth_cli_report_prep(pg_cli *cli, const pg_exemplar *src) {
 
 int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
     synth_args a = {
-        PG_CLI_EXEMPLAR_INIT, "out", NULL, 0, 1, 2, 0, 512, 6, 0.4, 0.1, 1.0, 1.0, false, false};
+        PG_CLI_EXEMPLAR_INIT, "out", NULL, 0, 1, 2, 0, 512, 6, 0.4, 0.1, 1.0, 1.0, 0, false, false};
     const pg_opt opts[] = {
         {"--size", NULL, PG_OPT_INT, &a.size, 1, 1e12, NULL, "N",
          "output is N x N texels, N a power of two (required)"},
@@ -216,6 +216,7 @@ int pg_cmd_synth(pg_cli *cli, int argc, char **argv) {
          "exemplar cache (default $XDG_CACHE_HOME/planetgen or ~/.cache/planetgen)"},
         {"--no-cache", NULL, PG_OPT_FLAG, &a.no_cache, 0, 0, NULL, NULL,
          "neither read nor write the exemplar cache"},
+        PG_CLI_MAX_MEMORY_OPT(a.max_memory_gb),
         PG_OPT_END};
     const char *pos[1];
     int npos;

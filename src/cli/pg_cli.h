@@ -56,6 +56,7 @@ typedef struct pg_cli {
     struct {
         char name[48];
         double seconds;
+        double peak_rss_bytes; /* the process's peak RSS when the stage ended */
     } stages[PG_STAGE_MAX];
     double stage_t0;
     char stage_name[48];
@@ -65,7 +66,8 @@ typedef struct pg_cli {
     /* files staged for atomic commit: written as temp names, renamed at finish */
     int nstaged;
     char **staged_tmp, **staged_final;
-    char *created_dir; /* output dir created by us, removed on failure if empty */
+    char *created_dir;      /* output dir created by us, removed on failure if empty */
+    double memory_estimate; /* bytes, from pg_cli_check_memory; 0 = none made */
     /* Guards the staged-file list against the signal watcher (pg_cli_watch_signals). */
     pthread_mutex_t lock;
 } pg_cli;
@@ -134,6 +136,11 @@ typedef struct pg_cli_exemplar {
 
 void pg_cli_exemplar_opts(const pg_cli_exemplar *e, pg_exemplar_opts *o);
 
+/* Estimated peak bytes of pg_exemplar_load with these options, from the inputs'
+ * headers (the Marble relief tiles for the default height). Inputs that cannot be
+ * probed or exceed the pixel limit count 0: the loader reports them. */
+double pg_cli_exemplar_bytes(const pg_exemplar_opts *o);
+
 /* Print the help text for a command: usage line plus option table. */
 void pg_cli_print_help(const pg_cli *cli, const char *usage, const char *description,
                        const pg_opt *specs, FILE *f);
@@ -173,5 +180,25 @@ struct pg_json *pg_cli_report(pg_cli *cli);
 
 /* Peak resident set size of this process, in bytes. */
 double pg_cli_peak_rss_bytes(void);
+
+/* Memory a run may use: MemAvailable from /proc/meminfo. The environment variable
+ * PLANETGEN_MEM_AVAILABLE (bytes) replaces it, for containers whose /proc reports the
+ * host and for tests that must provoke the refusal without a huge input. */
+double pg_cli_available_bytes(void);
+
+/* The check every command that allocates in proportion to its input or parameters
+ * makes before any work and any output: `need` is its estimated peak in bytes, `what`
+ * names the input or option that sets it. Over the limit (--max-memory GB when
+ * max_memory_gb > 0, else pg_cli_available_bytes) it prints one line with the estimate
+ * and returns 2; otherwise it records the estimate for the JSON report
+ * ("memory_estimate_bytes") and returns 0. */
+int pg_cli_check_memory(pg_cli *cli, const char *what, double need, double max_memory_gb);
+
+/* The --max-memory option of those commands; dest is a double, 0 = not given. */
+#define PG_CLI_MAX_MEMORY_OPT(dest)                                                                \
+    {                                                                                              \
+        "--max-memory", NULL, PG_OPT_DOUBLE, &(dest), 0.001, 1e6, NULL, "GB",                      \
+            "memory limit for the estimate checked before any work (default: available memory)"    \
+    }
 
 #endif
