@@ -39,11 +39,9 @@ static float *pack_planet(const pg_planet *p) {
     return b;
 }
 
-/* The exemplar reprojected onto a cube of the planet's geometry (2x2 taps per texel,
- * like pg_planet_from_exemplar). */
-static pg_status exemplar_cube(const pg_planet *p, const pg_exemplar *ex, float **out,
-                               pg_error *err) {
-    size_t np = (size_t)ex->width * ex->height, nn = (size_t)p->n * p->n;
+pg_status pg_inspect_exemplar_cube(const pg_planet *p, int64_t n, const pg_exemplar *ex,
+                                   float **out, pg_error *err) {
+    size_t np = (size_t)ex->width * ex->height, nn = (size_t)n * n;
     float *rgbh = malloc(np * 4 * sizeof *rgbh);
     *out = malloc(6 * nn * 4 * sizeof **out);
     if (!rgbh || !*out) {
@@ -55,7 +53,7 @@ static pg_status exemplar_cube(const pg_planet *p, const pg_exemplar *ex, float 
         memcpy(rgbh + 4 * i, ex->albedo + 3 * i, 3 * sizeof *rgbh);
         rgbh[4 * i + 3] = ex->elevation[i];
     }
-    pg_status st = pg_cube_from_equirect(p->projection, p->n, &p->ellipsoid, rgbh, ex->width,
+    pg_status st = pg_cube_from_equirect(p->projection, n, &p->ellipsoid, rgbh, ex->width,
                                          ex->height, 4, 2, *out, err);
     free(rgbh);
     if (st != PG_OK) {
@@ -89,7 +87,7 @@ pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int
     pg_views_cube_src ps = {p->projection, p->n, planet};
     pg_status st = render_source(PG_INSPECT_SRC_PLANET, pg_views_sample_cube, &ps, out, err);
     free(planet);
-    if (st == PG_OK) st = exemplar_cube(p, ex, &excube, err);
+    if (st == PG_OK) st = pg_inspect_exemplar_cube(p, p->n, ex, &excube, err);
     if (st == PG_OK) {
         pg_views_cube_src cs = {p->projection, p->n, excube};
         st = render_source(PG_INSPECT_SRC_EXCUBE, pg_views_sample_cube, &cs, out, err);

@@ -15,23 +15,41 @@
  * one equatorial pixel per pixel. At the equator that is the identity; at latitude phi
  * the texture is squeezed east-west by cos(phi) and neighbouring patches disagree, so
  * towards the poles it pinches and smears - the classic lat-lon failure. The check
- * must fail visibly on it. */
+ * must fail visibly on it.
+ *
+ * Neighbourhood fidelity (pg_inspect_fidelity_compute) on the same Earth planet: its
+ * neighbourhoods are the exemplar's own, so it scores below the leave-one-out baseline
+ * (gate <= FID_GATE_GOOD); negative controls made from it - every texel from a hashed
+ * texel (shuffled), heavy texel noise - must score >= FID_GATE_BAD. A blurred copy is
+ * reported as the measure's blind spot. The synthesized default planet is checked
+ * through `planetgen inspect` in test_pole_gate.c. */
 #include "pg_test.h"
 
 #include "planetgen/pg_inspect.h"
+#include "planetgen/pg_synth.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define PATCH 48 /* lat-lon emulation: patch period in pixels of the exemplar grid */
+/* Fidelity gates, from the measurements in docs/inspect.md (Earth 0.86x, synthesized
+ * default planet 0.78-0.90x, noise 3.8x, shuffled 8.0x leave-one-out). */
+#define FID_GATE_GOOD 1.0      /* a copy of the exemplar: at most leave-one-out */
+#define FID_GATE_BAD 2.0       /* noisy and shuffled controls: at least this */
+#define FID_NOISE_ALBEDO 0.2   /* uniform +-0.2 sRGB per channel (+-51 grey levels) */
+#define FID_NOISE_HEIGHT_M 500 /* uniform +-500 m */
+#define FID_BLUR_SIGMA 4.0     /* planet texels (2 analysis texels) */
 static const double PI = 3.14159265358979323846;
 
 typedef struct fixture {
     pg_exemplar ex;
     pg_planet earth;
     char dir[1024]; /* the Earth planet saved as a planet directory */
+    bool have_fid;
+    pg_inspect_fidelity earth_fid; /* the Earth planet's fidelity, computed on first use */
 } fixture;
 
 static int setup(void **state) {
@@ -299,6 +317,151 @@ static void test_seam_statistic(void **state) {
     pg_planet_free(&q);
 }
 
+/* ---- neighbourhood fidelity ---- */
+
+static void print_fid(const char *what, const pg_inspect_fidelity *f) {
+    printf("%-28s fidelity %.3f  loo %.3f  ratio %.3f  random %.3f (%.2fx)  completeness %.3f "
+           "(%.3fx)  [%d^2, m %d, %d queries, %d entries]\n",
+           what, f->fidelity, f->loo, f->ratio, f->random, f->random_ratio, f->completeness,
+           f->completeness_ratio, f->analysis_size, f->magnification, f->queries, f->database);
+}
+
+static void copy_geometry(const pg_planet *src, pg_planet *dst) {
+    pg_error err = {0};
+    assert_int_equal(
+        pg_planet_alloc(dst, src->projection, src->tiles, src->tile_size, src->ellipsoid, &err),
+        PG_OK);
+    dst->sea_level = src->sea_level;
+}
+
+/* Uniform hashed noise in [-1, 1). */
+static double noise(int f, int64_t i, int c) {
+    return pg_synth_hash(78, 0, f, (long)i, c, 0) / 2147483648.0 - 1.0;
+}
+
+/* The planet plus texel noise: FID_NOISE_ALBEDO in each sRGB channel, FID_NOISE_HEIGHT_M. */
+static void noisy(const pg_planet *src, pg_planet *dst) {
+    copy_geometry(src, dst);
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t i = 0; i < src->n * src->n; i++) {
+            for (int c = 0; c < 3; c++) {
+                double v = src->albedo[f][3 * i + c] + FID_NOISE_ALBEDO * noise(f, i, c);
+                dst->albedo[f][3 * i + c] = (float)(v < 0 ? 0 : v > 1 ? 1 : v);
+            }
+            dst->height[f][i] = (float)(src->height[f][i] + FID_NOISE_HEIGHT_M * noise(f, i, 3));
+        }
+}
+
+/* Every texel from a hashed texel anywhere on the planet. */
+static void shuffled(const pg_planet *src, pg_planet *dst) {
+    copy_geometry(src, dst);
+    int64_t n = src->n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t i = 0; i < n * n; i++) {
+            uint32_t h = pg_synth_hash(77, 0, f, (long)i, 0, 0);
+            int sf = (int)(pg_synth_hash(77, 0, f, (long)i, 1, 0) % 6);
+            int64_t t = (int64_t)(h % (uint32_t)(n * n));
+            memcpy(dst->albedo[f] + 3 * i, src->albedo[sf] + 3 * t, 3 * sizeof(float));
+            dst->height[f][i] = src->height[sf][t];
+        }
+}
+
+/* The planet blurred on every face (FID_BLUR_SIGMA planet texels). */
+static void blurred(const pg_planet *src, pg_planet *dst) {
+    copy_geometry(src, dst);
+    size_t nn = (size_t)(src->n * src->n);
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        memcpy(dst->albedo[f], src->albedo[f], nn * 3 * sizeof(float));
+        memcpy(dst->height[f], src->height[f], nn * sizeof(float));
+        blur_face(dst->albedo[f], src->n, 3, FID_BLUR_SIGMA);
+        blur_face(dst->height[f], src->n, 1, FID_BLUR_SIGMA);
+    }
+}
+
+static void fidelity_of(const fixture *fx, const pg_planet *p, pg_inspect_fidelity *out) {
+    pg_error err = {0};
+    pg_status st = pg_inspect_fidelity_compute(p, &fx->ex, out, &err);
+    if (st != PG_OK) fail_msg("%s", err.msg);
+}
+
+static const pg_inspect_fidelity *earth_fid(fixture *fx) {
+    if (!fx->have_fid) fidelity_of(fx, &fx->earth, &fx->earth_fid);
+    fx->have_fid = true;
+    return &fx->earth_fid;
+}
+
+/* The copy of the exemplar scores at most leave-one-out; the baselines are sane. */
+static void test_earth_scores_like_the_exemplar(void **state) {
+    fixture *fx = *state;
+    const pg_inspect_fidelity *e = earth_fid(fx);
+    print_fid("Earth on the cube", e);
+    assert_int_equal(e->analysis_size, 512);
+    assert_int_equal(e->magnification, 2);
+    assert_true(e->loo > 0 && e->fidelity > 0);
+    assert_true(e->ratio <= FID_GATE_GOOD);
+    /* structureless texture is far from everything */
+    assert_true(e->random_ratio >= 5);
+}
+
+/* Negative controls: structure destroyed (shuffled) or buried in texel noise must
+ * score clearly worse than the gate. Blur is reported, and shows the measure's blind
+ * spot: a blurred neighbourhood is close to the exemplar's own smooth ones (ocean,
+ * plains), so fidelity *improves*; only the reverse direction (completeness: sharp
+ * exemplar neighbourhoods missing from the planet) worsens, and only a little. */
+static void test_negative_controls(void **state) {
+    fixture *fx = *state;
+    const pg_inspect_fidelity *e = earth_fid(fx);
+    pg_planet p;
+    pg_inspect_fidelity fs, fn, fb;
+    shuffled(&fx->earth, &p);
+    fidelity_of(fx, &p, &fs);
+    pg_planet_free(&p);
+    noisy(&fx->earth, &p);
+    fidelity_of(fx, &p, &fn);
+    pg_planet_free(&p);
+    blurred(&fx->earth, &p);
+    fidelity_of(fx, &p, &fb);
+    pg_planet_free(&p);
+    print_fid("Earth on the cube", e);
+    print_fid("shuffled texels (control)", &fs);
+    print_fid("texel noise (control)", &fn);
+    print_fid("blurred sigma 4 (control)", &fb);
+    /* the baselines come from the exemplar alone: identical for every planet */
+    assert_true(fs.loo == e->loo && fn.random == e->random && fb.loo == e->loo);
+    assert_true(fs.ratio >= FID_GATE_BAD && fs.ratio >= 0.5 * fs.random_ratio);
+    assert_true(fn.ratio >= FID_GATE_BAD);
+    assert_true(fs.completeness_ratio >= FID_GATE_BAD && fn.completeness_ratio >= FID_GATE_BAD);
+    /* blur: fidelity does not see it, completeness does (direction only) */
+    assert_true(fb.completeness_ratio > e->completeness_ratio);
+}
+
+/* The same figures, bit for bit, with 1 and 2 threads. */
+static void test_thread_count_independent(void **state) {
+    fixture *fx = *state;
+    pg_inspect_fidelity a, b;
+    int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    fidelity_of(fx, &fx->earth, &a);
+    omp_set_num_threads(2);
+    fidelity_of(fx, &fx->earth, &b);
+    omp_set_num_threads(saved);
+    assert_memory_equal(&a, &b, sizeof a);
+    assert_memory_equal(&a, earth_fid(fx), sizeof a);
+}
+
+/* Faces too small for the neighbourhoods: a clear error, not a crash. */
+static void test_tiny_planet_rejected(void **state) {
+    fixture *fx = *state;
+    pg_planet p;
+    pg_error err = {0};
+    assert_int_equal(
+        pg_planet_alloc(&p, PG_CUBE_DEFAULT_PROJECTION, 1, 4, pg_ellipsoid_sphere(), &err), PG_OK);
+    pg_inspect_fidelity f;
+    assert_int_equal(pg_inspect_fidelity_compute(&p, &fx->ex, &f, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "too small"));
+    pg_planet_free(&p);
+}
+
 /* ---- the CLI ---- */
 
 static double json_number(const char *path, const char *key) {
@@ -328,6 +491,8 @@ static void test_cli_report(void **state) {
     assert_true(ratio > 0.5 && ratio <= PG_INSPECT_POLE_GATE);
     assert_true(json_number(json, "seam_ratio") <= PG_INSPECT_SEAM_GATE);
     assert_true(json_number(json, "depressions") >= 0);
+    double fid = json_number(json, "neighbourhood_fidelity_ratio");
+    assert_true(fid > 0 && fid <= FID_GATE_GOOD);
     char views[1200];
     snprintf(views, sizeof views, "%s/inspect", fx->dir);
     assert_int_equal(pg_test_count_files(views), PG_INSPECT_NSRC * PG_VIEWS_COUNT + 1);
@@ -368,9 +533,14 @@ static void test_cli_bad_input(void **state) {
 }
 
 int main(void) {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_pole_gate_and_negative_control),
-        cmocka_unit_test(test_isotropic_degradation_passes), cmocka_unit_test(test_seam_statistic),
-        cmocka_unit_test(test_cli_report), cmocka_unit_test(test_cli_bad_input)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_pole_gate_and_negative_control),
+                                       cmocka_unit_test(test_isotropic_degradation_passes),
+                                       cmocka_unit_test(test_seam_statistic),
+                                       cmocka_unit_test(test_earth_scores_like_the_exemplar),
+                                       cmocka_unit_test(test_negative_controls),
+                                       cmocka_unit_test(test_thread_count_independent),
+                                       cmocka_unit_test(test_tiny_planet_rejected),
+                                       cmocka_unit_test(test_cli_report),
+                                       cmocka_unit_test(test_cli_bad_input)};
     return cmocka_run_group_tests(tests, setup, teardown);
 }

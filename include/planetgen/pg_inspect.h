@@ -1,6 +1,6 @@
 /* pg_inspect.h - realism figures of a planet: the seam statistic, the LPIPS-style
- * pole check, and depressions. `planetgen inspect` prints them; the planet
- * synthesis tests reuse the seam statistic.
+ * pole check, depressions and neighbourhood fidelity. `planetgen inspect` prints
+ * them; the planet synthesis tests reuse the seam statistic.
  *
  * SEAM STATISTIC (issue 5): over every pair of 4-adjacent texels, the mean |delta| of a
  * field across the pairs that straddle a tile edge or one of the 12 face seams, divided
@@ -105,6 +105,63 @@ typedef struct pg_inspect_poles {
 
 pg_status pg_inspect_pole_scores(const pg_inspect_views *v, const pg_lpips_params *lp,
                                  pg_inspect_poles *out, pg_error *err);
+
+/* The exemplar reprojected onto a cube with the planet's projection and ellipsoid and n
+ * texels per face edge (2x2 bilinear taps per texel, like pg_planet_from_exemplar):
+ * 6*n*n*4 floats (R, G, B sRGB 0..1, height in metres), face-major; caller frees. */
+pg_status pg_inspect_exemplar_cube(const pg_planet *p, int64_t n, const pg_exemplar *ex,
+                                   float **out, pg_error *err);
+
+/* ---- neighbourhood fidelity (pg_inspect_fidelity.c) ----
+ *
+ * How far the planet's local neighbourhoods are from the nearest neighbourhood the
+ * exemplar has (Kwatra et al. 2005's texture energy; Lefebvre & Hoppe 2005/2006's
+ * neighbourhood matching): a neighbourhood is 5x5 texels of Lab albedo and height
+ * (scaled so its std equals the Lab std over the exemplar); the distance of two is
+ * the RMS difference per texel and channel (Lab units). The planet is read at the
+ * exemplar's scale: faces box-averaged down to at most PG_INSPECT_FID_FACE texels,
+ * against the exemplar reprojected onto a cube of that size. fidelity = mean over
+ * hashed planet texels (all six faces) of the distance to the nearest exemplar
+ * neighbourhood; two baselines on the same exemplar database say what good and bad
+ * are: leave-one-out (exemplar neighbourhoods against the rest of the exemplar, every
+ * neighbourhood sharing a texel with the query excluded) and random (neighbourhoods of
+ * 25 hashed exemplar texels: the exemplar's colours and heights without structure).
+ * Completeness is the other direction (Simakov et al. 2008's bidirectional
+ * similarity): the leave-one-out query texels of the exemplar against the nearest
+ * planet neighbourhood; it sees what fidelity cannot, exemplar structure the planet
+ * lacks (e.g. a blurred planet, whose smooth neighbourhoods do match the exemplar's
+ * smooth ocean and plains, scores a *better* fidelity). The search is exact (see
+ * pg_inspect_fidelity.c). */
+#define PG_INSPECT_FID_FACE 512    /* analysis face size: the synthesis exemplar's default */
+#define PG_INSPECT_FID_RADIUS 2    /* 5x5 neighbourhoods */
+#define PG_INSPECT_FID_STRIDE 4    /* exemplar database: every 4th texel in x and y */
+#define PG_INSPECT_FID_QUERIES 256 /* hashed query texels per face: planet, leave-one-out */
+/* random baseline, per face: its figure (~12x leave-one-out) varies little, and each of
+ * its queries costs ~10x more (far from everything, the lower bound prunes little) */
+#define PG_INSPECT_FID_RANDOM_QUERIES 32
+#define PG_INSPECT_FID_PREFIX 16 /* DCT coefficients in the pruning lower bound */
+
+typedef struct pg_inspect_fidelity {
+    double fidelity;           /* planet: mean nearest-exemplar distance (Lab units) */
+    double loo;                /* exemplar leave-one-out: the same, exemplar against itself */
+    double random;             /* neighbourhoods of shuffled exemplar texels */
+    double ratio;              /* fidelity / loo: ~1 = as close as the exemplar is to itself */
+    double random_ratio;       /* random / loo: where structureless texture lands */
+    double completeness;       /* the other direction: exemplar neighbourhoods (the leave-one-out
+                                * queries) against the nearest planet neighbourhood */
+    double completeness_ratio; /* completeness / loo */
+    int analysis_size;         /* texels per face edge the figures were computed at */
+    int magnification;         /* planet texels per analysis texel (box-averaged) */
+    int queries;               /* planet and leave-one-out (6 x PG_INSPECT_FID_QUERIES) */
+    int random_queries;        /* random baseline (6 x PG_INSPECT_FID_RANDOM_QUERIES) */
+    int database;              /* exemplar neighbourhoods searched */
+    double height_scale;       /* Lab units per metre of height */
+} pg_inspect_fidelity;
+
+/* Neighbourhood fidelity of a planet against an exemplar. Deterministic: the same
+ * figures for any thread count. */
+pg_status pg_inspect_fidelity_compute(const pg_planet *p, const pg_exemplar *ex,
+                                      pg_inspect_fidelity *out, pg_error *err);
 
 /* ---- depressions ---- */
 

@@ -3,8 +3,9 @@
  *
  * The figures: the LPIPS-style pole check (pg_inspect.h: pole and equator distances of
  * the planet against the exemplar, their ratio and the gate), the seam statistic of
- * issue 5, depressions (pg_pits), neighbourhood fidelity (not exposed by the synthesis
- * library yet: reported as unavailable), and the projection's distortion table. The
+ * issue 5, depressions (pg_pits), neighbourhood fidelity against the exemplar with its
+ * leave-one-out and random baselines (pg_inspect_fidelity_compute), and the
+ * projection's distortion table. The
  * planet directory is checked before anything is computed, so a wrong path fails in a
  * second with the missing file named. */
 #include "pg_commands.h"
@@ -29,10 +30,8 @@ typedef struct inspect_figures {
     pg_pits_stats pits;
     pg_cube_distortion dist;
     pg_inspect_poles poles;
+    pg_inspect_fidelity fid;
 } inspect_figures;
-
-static const char *FIDELITY_NOTE =
-    "not available: the synthesis library exposes no neighbourhood-fidelity measure yet";
 
 /* Largest view size: 18 views of 16 bytes per pixel plus the supersampled buffers take
  * ~1.5 GB at 2048 px; 4096 would take four times that. */
@@ -73,6 +72,10 @@ static pg_status compute_figures(pg_cli *cli, const pg_planet *p, const pg_exemp
     if (st != PG_OK) return st;
     pg_cli_stage_begin(cli, "distortion");
     st = pg_cube_distortion_compute(p->projection, p->n, &p->ellipsoid, &fig->dist, err);
+    pg_cli_stage_end(cli);
+    if (st != PG_OK) return st;
+    pg_cli_stage_begin(cli, "neighbourhood fidelity");
+    st = pg_inspect_fidelity_compute(p, ex, &fig->fid, err);
     pg_cli_stage_end(cli);
     if (st != PG_OK) return st;
     pg_cli_stage_begin(cli, "render views");
@@ -146,7 +149,14 @@ static void print_table(pg_cli *cli, const pg_planet *p, const inspect_figures *
     pg_cli_info(cli, "depressions  %llu (%llu cells, deepest %.1f m)\n",
                 (unsigned long long)f->pits.depressions,
                 (unsigned long long)f->pits.depression_cells, f->pits.max_depth_m);
-    pg_cli_info(cli, "fidelity     %s\n", FIDELITY_NOTE);
+    const pg_inspect_fidelity *fd = &f->fid;
+    pg_cli_info(cli,
+                "fidelity     %.3f = %.3f x leave-one-out %.3f (random texels %.3f = %.2f x); "
+                "Lab RMS to the nearest exemplar 5x5 at %d^2 per face\n",
+                fd->fidelity, fd->ratio, fd->loo, fd->random, fd->random_ratio, fd->analysis_size);
+    pg_cli_info(
+        cli, "completeness %.3f = %.3f x leave-one-out (exemplar 5x5 to the nearest planet 5x5)\n",
+        fd->completeness, fd->completeness_ratio);
     pg_cli_info(cli,
                 "distortion   texel area ratio %.4f, max angle deviation %.3f deg, mean "
                 "texel %.3f km\n",
@@ -178,6 +188,28 @@ static void json_views(pg_json *res, const pg_inspect_poles *q) {
         for (int l = 0; l < q->d[PG_INSPECT_SRC_PLANET][k].layers; l++)
             pg_json_push_number(layers, q->d[PG_INSPECT_SRC_PLANET][k].layer[l]);
     }
+}
+
+static void json_fidelity(pg_json *top, pg_json *res, const pg_inspect_fidelity *fd) {
+    pg_json_set_number(top, "neighbourhood_fidelity_ratio", fd->ratio);
+    pg_json_set_number(res, "neighbourhood_fidelity", fd->fidelity);
+    pg_json_set_number(res, "neighbourhood_fidelity_loo", fd->loo);
+    pg_json_set_number(res, "neighbourhood_fidelity_ratio", fd->ratio);
+    pg_json_set_number(res, "neighbourhood_fidelity_random", fd->random);
+    pg_json_set_number(res, "neighbourhood_fidelity_random_ratio", fd->random_ratio);
+    pg_json_set_number(res, "neighbourhood_completeness", fd->completeness);
+    pg_json_set_number(res, "neighbourhood_completeness_ratio", fd->completeness_ratio);
+    pg_json *d = pg_json_set_object(res, "neighbourhood_fidelity_details");
+    pg_json_set_string(d, "measure",
+                       "mean over hashed planet texels of the RMS difference per texel and "
+                       "channel (Lab, height scaled to the Lab std) of the 5x5 neighbourhood "
+                       "to the nearest exemplar 5x5 neighbourhood (exact search)");
+    pg_json_set_number(d, "analysis_face_size", fd->analysis_size);
+    pg_json_set_number(d, "planet_texels_per_analysis_texel", fd->magnification);
+    pg_json_set_number(d, "queries", fd->queries);
+    pg_json_set_number(d, "random_queries", fd->random_queries);
+    pg_json_set_number(d, "database", fd->database);
+    pg_json_set_number(d, "height_lab_per_m", fd->height_scale);
 }
 
 static void report_json(pg_cli *cli, const inspect_args *a, const pg_planet *p,
@@ -226,8 +258,7 @@ static void report_json(pg_cli *cli, const inspect_args *a, const pg_planet *p,
     pg_json_set_number(d, "area_m2", f->pits.depression_area_m2);
     pg_json_set_number(d, "volume_m3", f->pits.depression_volume_m3);
     pg_json_set_number(d, "max_depth_m", f->pits.max_depth_m);
-    pg_json_set_number(res, "neighbourhood_fidelity", NAN); /* null */
-    pg_json_set_string(res, "neighbourhood_fidelity_note", FIDELITY_NOTE);
+    json_fidelity(r, res, &f->fid);
     pg_json *dist = pg_json_set_object(res, "distortion");
     pg_json_set_string(dist, "projection", pg_cube_projection_name(p->projection));
     pg_json_set_number(dist, "texel_area_min_m2", f->dist.area_min_m2);
@@ -286,9 +317,10 @@ int pg_cmd_inspect(pg_cli *cli, int argc, char **argv) {
         cli, opts, argc, argv, pos, 1, &npos, "OUTDIR [--json F] [--view-size N] [-o DIR]",
         "Report the realism figures of a planet directory: LPIPS-style pole\n"
         "and equator distances to the exemplar (fixed Gabor features, not\n"
-        "learned LPIPS) and their ratio, the seam statistic, depressions and\n"
-        "the projection's distortion; write the six views of the planet and\n"
-        "of the exemplar (cube and equirect) as PNGs.");
+        "learned LPIPS) and their ratio, the seam statistic, depressions,\n"
+        "neighbourhood fidelity to the exemplar (with leave-one-out and\n"
+        "random baselines) and the projection's distortion; write the six\n"
+        "views of the planet and of the exemplar (cube and equirect) as PNGs.");
     if (rc >= 0) return rc;
     if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (OUTDIR)");
     a.planet_dir = pos[0];
