@@ -90,9 +90,10 @@ static pg_status read_dem(const char *path, const char *what, pg_image *img, pg_
     pg_status s = pg_image_read(path, 0, img, err);
     if (s) return s;
     if (img->channels != 1) {
+        int channels = img->channels; /* pg_image_free clears the struct */
         pg_image_free(img);
         return pg_error_set(err, PG_ERR_BADINPUT, "%s %s: %d channels, expected 1 (a height map)",
-                            what, path, img->channels);
+                            what, path, channels);
     }
     return PG_OK;
 }
