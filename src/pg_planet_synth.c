@@ -34,7 +34,7 @@ void pg_planet_synth_params_default(pg_planet_synth_params *p) {
     p->tile_size = 256;
     pg_synth_params_default(&p->synth);
     p->layout = PG_LAYOUT_EARTH;
-    p->keep_levels = 2;
+    p->keep_levels = PG_PLANET_KEEP_AUTO;
     p->guide_alpha = 0.8;
     p->type_mask = PG_TYPES_ALL;
     p->pits = true;
@@ -65,6 +65,34 @@ int pg_planet_synth_magnification(const pg_synth_exemplar *ex, const pg_planet_s
            (p->tile_size / (2 * m)) % need == 0)
         m *= 2;
     return m;
+}
+
+/* Layout earth keeps, unjittered, the levels whose texel spacing is at least 1/32 of a
+ * face (about 280 km on the Earth), whatever the exemplar's resolution: spacing 2^s
+ * exemplar texels of a face of E, so s >= log2(E) - 5. Counting the levels by number
+ * instead would keep twice as fine a structure at E = 1024 as at 512 and make a larger
+ * exemplar a closer copy of the Earth, not a finer planet. At least the coarsest level
+ * is kept, or the layout would not be the Earth's. */
+int pg_planet_synth_keep_levels(const pg_synth_exemplar *ex, const pg_planet_synth_params *p) {
+    if (p->keep_levels != PG_PLANET_KEEP_AUTO) return p->keep_levels;
+    int log2e = 0;
+    while ((1 << (log2e + 1)) <= ex->face_size)
+        log2e++;
+    int keep = top_scale(ex) - (log2e - 5) + 1;
+    return keep < 1 ? 1 : (keep > ex->levels ? ex->levels : keep);
+}
+
+/* The exemplar cube as fine as the planet (so nothing is magnified), within
+ * [PG_PLANET_FACE_MIN, PG_PLANET_FACE_AUTO_MAX]: below 512 the 6 analysed levels do not
+ * fit, and above the cap the exemplar outgrows a workstation (about 200 B per exemplar
+ * texel while it is prepared: 5 GB at 2048, 20 GB at 4096) and the default source data
+ * holds no finer detail (Blue Marble has 675 px per face, Marble's relief 2700). */
+int pg_planet_synth_face_size(int tiles, int tile_size) {
+    int64_t n = (int64_t)tiles * tile_size;
+    int e = PG_PLANET_FACE_MIN;
+    while (e < n && e < PG_PLANET_FACE_AUTO_MAX)
+        e *= 2;
+    return e;
 }
 
 /* Bytes per finest texel, by phase (see pg_planet_synth_run for the order of
@@ -98,7 +126,7 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
     if ((int64_t)p->tiles * S > PG_SYNTH_MAX_FACE_SIZE * 4)
         return pg_error_set(err, PG_ERR_BADINPUT, "--tiles x --tile-size %lld: too large",
                             (long long)p->tiles * S);
-    if (p->keep_levels < 0 || p->keep_levels > ex->levels)
+    if (p->keep_levels < PG_PLANET_KEEP_AUTO || p->keep_levels > ex->levels)
         return pg_error_set(err, PG_ERR_BADINPUT, "--keep-levels %d: must be in 0..%d",
                             p->keep_levels, ex->levels);
     if (p->pit_skip_levels < 0 || p->pit_skip_levels > ex->levels)
@@ -179,6 +207,7 @@ typedef struct ctx {
     int64_t N;    /* synthesized texels per face edge: Nout / m */
     int64_t Nout; /* delivered texels per face edge: tiles * tile_size */
     int m;        /* magnification from synthesized to delivered texels (a power of two) */
+    int keep;     /* layout earth: levels kept without jitter (resolved from auto) */
     border_map bm;
     /* types */
     bool use_types;
@@ -496,8 +525,7 @@ static pg_status run_level(ctx *c, int scale, level *L, pg_error *err) {
         if (st) return st;
         progress(c, units / p->synth.passes);
     }
-    if (p->layout == PG_LAYOUT_EARTH && p->keep_levels > 0 &&
-        scale == c->s_top - p->keep_levels + 1)
+    if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1)
         land_agreement(c, scale, L);
     return PG_OK;
 }
@@ -622,6 +650,7 @@ static pg_status ctx_init(ctx *c, const pg_synth_exemplar *ex, const pg_planet_s
     c->Nout = (int64_t)p->tiles * p->tile_size;
     c->N = c->Nout / c->m;
     c->s_top = top_scale(ex);
+    c->keep = pg_planet_synth_keep_levels(ex, p);
     c->info = info;
     size_t nb = (size_t)6 * 4 * (c->N + 2), full = (size_t)6 * (c->N + 2) * (c->N + 2);
     c->bm.dst = malloc(nb * sizeof(size_t));
@@ -647,7 +676,7 @@ static pg_status prepare_level(ctx *c, int scale, level *L, pg_error *err) {
 }
 
 static double jitter_for(const ctx *c, int scale) {
-    if (c->p->layout == PG_LAYOUT_EARTH && scale > c->s_top - c->p->keep_levels) return 0;
+    if (c->p->layout == PG_LAYOUT_EARTH && scale > c->s_top - c->keep) return 0;
     return pg_synth_jitter_for(&c->p->synth, scale);
 }
 

@@ -108,11 +108,16 @@ double pg_guide_weight(double alpha, int s_top, int scale);
 
 typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE } pg_planet_layout;
 
+#define PG_PLANET_KEEP_AUTO (-1)     /* keep_levels by ground scale */
+#define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
+#define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
+
 typedef struct pg_planet_synth_params {
     int tiles, tile_size;        /* T, S; S must be a multiple of 2^(levels-1) */
     pg_synth_params synth;       /* seed, jitter, passes, ... (tile_size ignored) */
     pg_planet_layout layout;     /* default earth */
-    int keep_levels;             /* layout earth: top levels without jitter; default 2 */
+    int keep_levels;             /* layout earth: top levels without jitter; default
+                                    PG_PLANET_KEEP_AUTO (pg_planet_synth_keep_levels) */
     const pg_guide *guide;       /* NULL: none */
     double guide_alpha;          /* blend weight at the coarsest level; default 0.8 */
     uint8_t type_mask;           /* allowed types everywhere (preset); default all */
@@ -155,8 +160,18 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
  * exemplar texel of ground, so a planet whose faces are at least twice as fine as the
  * exemplar cube's is synthesized at N / m (m the largest power of two keeping
  * N / m >= the exemplar's face size and whole pyramids per tile) and magnified (cubic
- * B-spline) at delivery. The default planet (N = 1024, E = 512) has m = 2. */
+ * B-spline) at delivery. With the exemplar face from pg_planet_synth_face_size, only
+ * planets with faces beyond 2048 are magnified. */
 int pg_planet_synth_magnification(const pg_synth_exemplar *ex, const pg_planet_synth_params *p);
+
+/* Levels layout earth keeps without jitter: keep_levels, or for PG_PLANET_KEEP_AUTO
+ * those whose spacing is at least 1/32 of a face (E = 512: 2, 1024: 1), at least 1. */
+int pg_planet_synth_keep_levels(const pg_synth_exemplar *ex, const pg_planet_synth_params *p);
+
+/* The exemplar face size for a planet of T x S: N = T S rounded up to a power of two,
+ * within [PG_PLANET_FACE_MIN, PG_PLANET_FACE_AUTO_MAX], so that planets up to faces of
+ * 2048 are synthesized texel for texel (magnification 1). */
+int pg_planet_synth_face_size(int tiles, int tile_size);
 
 /* Synthesize a planet: out is allocated (pg_planet_alloc, default projection, WGS84)
  * and filled with albedo and heights. Optionally returns the finest exemplar coordinates

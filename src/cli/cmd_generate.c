@@ -21,8 +21,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define GEN_LEVELS 6           /* analysed levels of the exemplar (pg_synth default) */
-#define GEN_EXEMPLAR_BYTES 4e8 /* the prepared exemplar and the loaded source images */
+#define GEN_LEVELS 6                       /* analysed levels of the exemplar (pg_synth default) */
+#define GEN_SOURCE_BYTES 4e8               /* the loaded source images */
+#define GEN_BYTES_PER_EXEMPLAR_TEXEL 200.0 /* preparing the exemplar cube, at its peak */
 
 typedef struct gen_args {
     const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
@@ -58,7 +59,7 @@ static int validate(pg_cli *cli, const gen_args *a) {
                                   "--tile-size %ld: does not divide into the %d-level pyramid "
                                   "(must be a multiple of 2^%d = %ld)",
                                   S, GEN_LEVELS, GEN_LEVELS - 1, need);
-    if (a->keep_levels > GEN_LEVELS)
+    if (a->keep_levels != PG_PLANET_KEEP_AUTO && a->keep_levels > GEN_LEVELS)
         return pg_cli_usage_error(cli, "--keep-levels %ld: must be in 0..%d", a->keep_levels,
                                   GEN_LEVELS);
     if (a->pit_skip > GEN_LEVELS)
@@ -109,9 +110,23 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->independent_tiles = a->independent;
 }
 
+/* --face-size, or by default the planet's own face size (pg_planet_synth_face_size). */
+static int gen_face_size(const gen_args *a) {
+    return a->face_size ? (int)a->face_size
+                        : pg_planet_synth_face_size((int)a->tiles, (int)a->tile_size);
+}
+
+/* The source images (Blue Marble, the 10800 x 5400 relief: about 0.4 GB) plus the
+ * exemplar cube while it is prepared, about 200 B per exemplar texel at its peak
+ * (E = 2048, 25 M exemplar texels: 5.1 GB peak RSS measured, cold). */
+static double gen_exemplar_bytes(const gen_args *a) {
+    double e = gen_face_size(a);
+    return GEN_SOURCE_BYTES + GEN_BYTES_PER_EXEMPLAR_TEXEL * 6.0 * e * e;
+}
+
 static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
                         double *need_out) {
-    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + GEN_EXEMPLAR_BYTES;
+    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a);
     double have = a->max_memory_gb > 0 ? a->max_memory_gb * 1e9 : available_bytes();
     *need_out = need;
     if (need > have)
@@ -133,7 +148,7 @@ static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_
     snprintf(src_name, name_size, "%s + %s", src.albedo_src, src.height_src);
     pg_synth_exemplar_params ep;
     pg_synth_exemplar_params_default(&ep);
-    ep.face_size = (int)a->face_size;
+    ep.face_size = gen_face_size(a);
     ep.levels = GEN_LEVELS;
     st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height, src.sea_level,
                                    &ep, a->no_cache ? "" : a->cache_dir, ex, pi, err);
@@ -177,12 +192,18 @@ static void report_depressions(pg_json *o, const char *key, const pg_pits_stats 
     pg_json_set_number(d, "max_depth_m", s->max_depth_m);
 }
 
+/* What the exemplar decided: its face size, the magnification, the kept levels. */
+typedef struct gen_scale {
+    int face, mag, keep;
+} gen_scale;
+
 static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
                    const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need,
-                   const pg_inspect_seams *seams, int mag) {
+                   const pg_inspect_seams *seams, const gen_scale *sc) {
+    const int mag = sc->mag;
     double mpx = 6.0 * (double)a->tiles * a->tiles * a->tile_size * a->tile_size / 1e6;
-    pg_cli_info(cli, "exemplar %s in %.2f s\n", pi->from_cache ? "loaded from cache" : "prepared",
-                pi->seconds);
+    pg_cli_info(cli, "exemplar 6 x %d^2, %s in %.2f s\n", sc->face,
+                pi->from_cache ? "loaded from cache" : "prepared", pi->seconds);
     /* Say how many texels were synthesized: a magnified planet delivers m^2 times more. */
     pg_cli_info(cli,
                 "planet   6 x %ld^2 tiles of %ld^2 = %.1f Mpx; synthesized %.1f Mpx at the "
@@ -222,7 +243,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(pp, "tile_size", (double)a->tile_size);
     pg_json_set_number(pp, "seed", (double)a->seed);
     pg_json_set_string(pp, "layout", p->layout == PG_LAYOUT_EARTH ? "earth" : "free");
-    pg_json_set_number(pp, "keep_levels", p->keep_levels);
+    pg_json_set_number(pp, "keep_levels", sc->keep);
+    pg_json_set_number(pp, "exemplar_face_size", sc->face);
     pg_json_set_number(pp, "jitter", p->synth.jitter);
     pg_json_set_number(pp, "passes", p->synth.passes);
     pg_json_set_string(pp, "guide", a->guide ? a->guide : "");
@@ -285,7 +307,8 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     pg_planet_synth_info si;
     pg_cli_stage_begin(cli, "synthesize");
     pg_status st = pg_planet_synth_run(ex, &p, &planet, NULL, &si, &err);
-    const int mag = pg_planet_synth_magnification(ex, &p); /* ex is freed next */
+    const gen_scale sc = {ex->face_size, pg_planet_synth_magnification(ex, &p),
+                          pg_planet_synth_keep_levels(ex, &p)}; /* ex is freed next */
     pg_cli_stage_end(cli);
     pg_synth_exemplar_free(ex);
     if (st) return pg_cli_fail(cli, &err);
@@ -307,7 +330,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in) {
     }
     pg_planet_free(&planet);
     if (st) return pg_cli_fail(cli, &err);
-    report(cli, a, &p, &pi, &si, need, &seams, mag);
+    report(cli, a, &p, &pi, &si, need, &seams, &sc);
     return pg_cli_finish(cli);
 }
 
@@ -319,10 +342,10 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
                   .tiles = 4,
                   .tile_size = 256,
                   .seed = 1,
-                  .keep_levels = 2,
+                  .keep_levels = PG_PLANET_KEEP_AUTO,
                   .pit_skip = 1,
                   .passes = 2,
-                  .face_size = 512,
+                  .face_size = 0, /* auto */
                   .jitter = 0.4,
                   .guide_weight = 0.8};
     const pg_opt opts[] = {
@@ -336,7 +359,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "earth: continents where Earth has them; free: a new arrangement (default earth, or "
          "free with --guide)"},
         {"--keep-levels", NULL, PG_OPT_INT, &a.keep_levels, 0, 64, NULL, "K",
-         "layout earth: coarsest levels kept without jitter (2)"},
+         "layout earth: coarsest levels kept without jitter (default: those at least 1/32 "
+         "of a face apart: 2 for an exemplar face of 512, 1 for 1024 and up)"},
         {"--guide", NULL, PG_OPT_STRING, &a.guide, 0, 0, NULL, "PNG",
          "equirectangular grey elevation sketch, white high, black low (soft constraint)"},
         {"--guide-weight", NULL, PG_OPT_DOUBLE, &a.guide_weight, 0, 1, NULL, "A",
@@ -363,7 +387,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "do not write the glTF globe planet.glb"},
         PG_CLI_EXEMPLAR_OPTS(a.in),
         {"--face-size", NULL, PG_OPT_INT, &a.face_size, 512, 4096, NULL, "E",
-         "exemplar cube face size (512; 6 analysed levels need at least 512)"},
+         "exemplar cube face size (default: the planet's face size N, within 512..2048, so "
+         "that nothing is magnified up to N = 2048)"},
         {"--cache-dir", NULL, PG_OPT_STRING, &a.cache_dir, 0, 0, NULL, "DIR",
          "exemplar cache (default $XDG_CACHE_HOME/planetgen)"},
         {"--no-cache", NULL, PG_OPT_FLAG, &a.no_cache, 0, 0, NULL, NULL,
