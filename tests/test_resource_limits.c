@@ -6,7 +6,9 @@
  * The available memory is provoked low through PLANETGEN_MEM_AVAILABLE (bytes), which
  * replaces /proc/meminfo's MemAvailable, so the refusal is tested on tiny inputs that
  * would otherwise run in a second. The inputs are small synthetic files written here:
- * an exemplar pair of 64 x 32, a 64 x 64 DEM and a 6 x 32^2 planet directory. */
+ * an exemplar pair of 64 x 32, a 64 x 64 DEM and a 6 x 32^2 planet directory. The
+ * commands: synth, pits (a DEM and a planet directory), export, exemplar, inspect;
+ * generate's check is tested in test_generate_cli. */
 #include "pg_test.h"
 
 #include "planetgen/pg_image.h"
@@ -181,12 +183,22 @@ static void test_exemplar(void **state) {
     expect_override_runs(args, png);
 }
 
+static void test_inspect(void **state) {
+    (void)state;
+    char args[4096], views[700], png[800];
+    snprintf(views, sizeof views, "%s/views", dir);
+    snprintf(png, sizeof png, "%s/north_planet.png", views);
+    snprintf(args, sizeof args, "inspect %s --albedo %s --height %s --view-size 256 -o %s", planet,
+             alb, hgt, views);
+    expect_both_refusals(args, planet, views);
+    expect_override_runs(args, png);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_synth),
-        cmocka_unit_test(test_pits),
-        cmocka_unit_test(test_export),
-        cmocka_unit_test(test_exemplar),
+        cmocka_unit_test(test_synth),   cmocka_unit_test(test_pits),
+        cmocka_unit_test(test_export),  cmocka_unit_test(test_exemplar),
+        cmocka_unit_test(test_inspect),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -10,6 +10,7 @@
  * second with the missing file named. */
 #include "pg_commands.h"
 
+#include "pg_planet_meta.h"
 #include "planetgen/pg_inspect.h"
 #include "planetgen/pg_json.h"
 
@@ -23,6 +24,7 @@ typedef struct inspect_args {
     pg_cli_exemplar in;
     const char *planet_dir, *views_dir;
     long view_size;
+    double max_memory_gb;
 } inspect_args;
 
 typedef struct inspect_figures {
@@ -56,6 +58,24 @@ static pg_status load_exemplar(const inspect_args *a, pg_exemplar *ex, pg_error 
     pg_exemplar_opts o;
     pg_cli_exemplar_opts(&a->in, &o);
     return pg_exemplar_load(&o, ex, err);
+}
+
+/* Peak memory: the exemplar pair (pg_cli_exemplar_bytes), the planet with its
+ * depression count (48 B per texel, as pits --stats) and the 18 views with their
+ * supersampled buffers, 512 B per view pixel. Measured on 6 x 1024^2 texels: 0.57 GB
+ * at 512 px views, 0.94 GB at 1024 px; estimated 1.24 and 1.64 GB. A planet.json
+ * that cannot be read passes here; loading the planet then names the problem. */
+static int check_memory(pg_cli *cli, const inspect_args *a) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", a->planet_dir, PG_PLANET_META_NAME);
+    pg_planet_meta meta;
+    pg_error err = {0};
+    if (pg_planet_meta_read(path, &meta, &err) != PG_OK) return 0;
+    pg_exemplar_opts o;
+    pg_cli_exemplar_opts(&a->in, &o);
+    double n = (double)meta.tiles * meta.tile_size, v = (double)a->view_size;
+    double need = pg_cli_exemplar_bytes(&o) + 150e6 + 6 * n * n * 48 + v * v * 512;
+    return pg_cli_check_memory(cli, a->planet_dir, need, a->max_memory_gb);
 }
 
 /* ---- figures ---- */
@@ -303,13 +323,14 @@ static int run(pg_cli *cli, inspect_args *a) {
 }
 
 int pg_cmd_inspect(pg_cli *cli, int argc, char **argv) {
-    inspect_args a = {PG_CLI_EXEMPLAR_INIT, NULL, NULL, PG_VIEWS_DEFAULT_SIZE};
+    inspect_args a = {PG_CLI_EXEMPLAR_INIT, NULL, NULL, PG_VIEWS_DEFAULT_SIZE, 0};
     const pg_opt opts[] = {{"--view-size", NULL, PG_OPT_INT, &a.view_size, (double)LONG_MIN,
                             (double)LONG_MAX, NULL, "N",
                             "views are N x N px, N a power of two in 256..2048 (default 512)"},
                            {"--views", "-o", PG_OPT_STRING, &a.views_dir, 0, 0, NULL, "DIR",
                             "where to write the view PNGs (default OUTDIR/inspect)"},
                            PG_CLI_EXEMPLAR_OPTS(a.in),
+                           PG_CLI_MAX_MEMORY_OPT(a.max_memory_gb),
                            PG_OPT_END};
     const char *pos[1];
     int npos;
@@ -325,6 +346,7 @@ int pg_cmd_inspect(pg_cli *cli, int argc, char **argv) {
     if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (OUTDIR)");
     a.planet_dir = pos[0];
     if ((rc = check_view_size(cli, a.view_size))) return rc;
+    if ((rc = check_memory(cli, &a))) return rc;
     char views[4096];
     if (!a.views_dir) {
         snprintf(views, sizeof views, "%s/inspect", a.planet_dir);
