@@ -223,16 +223,14 @@ static pg_status planet_heights(const pg_planet *p, float **out, pg_error *err) 
 
 /* --stats PLANET_DIR: one global count over all faces, true texel areas. */
 static int run_planet_stats(pg_cli *cli, const pits_args *a) {
+    if (a->lakes) return pg_cli_usage_error(cli, "--lakes: not supported with a planet directory");
     int rc = check_planet_memory(cli, a, a->stats);
     if (rc) return rc;
     pg_error err = {0};
     pg_planet p;
+    pg_cli_stage_begin(cli, "load planet");
     if (pg_planet_load(a->stats, &p, &err)) return pg_cli_fail(cli, &err);
-    if (a->lakes) {
-        pg_planet_free(&p);
-        pg_error_set(&err, PG_ERR_BADINPUT, "--lakes: not supported with a planet directory");
-        return pg_cli_fail(cli, &err);
-    }
+    pg_cli_stage_end(cli);
     pits_args pa = *a;
     if (isnan(pa.sea_level)) pa.sea_level = p.sea_level;
     pa.closed_edges = true; /* a sphere has no edges */
@@ -269,11 +267,15 @@ static int run_stats(pg_cli *cli, const pits_args *a) {
     pg_error err = {0};
     pg_image img;
     uint8_t *lakes = NULL;
+    /* the inputs are checked inside the stage: a bad one ends it without a progress
+     * line, so the error stays the only line */
+    pg_cli_stage_begin(cli, "read DEM");
     if (read_dem(a->stats, "--stats", &img, &err)) return pg_cli_fail(cli, &err);
     if (a->lakes && read_lakes(a->lakes, &img, &lakes, &err)) {
         pg_image_free(&img);
         return pg_cli_fail(cli, &err);
     }
+    pg_cli_stage_end(cli);
     pg_pits_opts o;
     set_opts(a, lakes, &o);
     pg_pits_topo t;
@@ -299,9 +301,13 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
     pg_error err = {0};
     pg_image img;
     uint8_t *lakes = NULL;
+    /* the inputs are checked inside the stage: a bad one ends it without a progress
+     * line, so the error stays the only line */
+    pg_cli_stage_begin(cli, "read DEM");
     if (read_dem(in, "input", &img, &err)) return pg_cli_fail(cli, &err);
     pg_status s = check_output(a, &img, &err);
     if (!s && a->lakes) s = read_lakes(a->lakes, &img, &lakes, &err);
+    if (!s) pg_cli_stage_end(cli);
     pg_pits_opts o;
     set_opts(a, lakes, &o);
     pg_pits_topo t;
@@ -328,7 +334,11 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
         s = pg_pits_stats_compute(&t, img.data, &o, &area, &after, &err);
         pg_cli_stage_end(cli);
     }
-    if (!s) s = write_dem(cli, a->out, in, &img, &err);
+    if (!s) {
+        pg_cli_stage_begin(cli, "write DEM");
+        s = write_dem(cli, a->out, in, &img, &err);
+        pg_cli_stage_end(cli);
+    }
     pg_image_free(&img);
     free(lakes);
     if (s) return pg_cli_fail(cli, &err);
