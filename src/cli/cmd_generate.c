@@ -40,16 +40,6 @@ typedef struct gen_inputs {
     bool has_guide, has_types;
 } gen_inputs;
 
-static double available_bytes(void) {
-    FILE *f = fopen("/proc/meminfo", "r");
-    double kb = 0;
-    char line[256];
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
-    if (f) fclose(f);
-    return kb > 0 ? kb * 1024.0 : 8e9;
-}
-
 static int validate(pg_cli *cli, const gen_args *a) {
     long S = a->tile_size, need = 1L << (GEN_LEVELS - 1);
     if (S < 16 || S > 8192 || (S & (S - 1)))
@@ -127,15 +117,10 @@ static double gen_exemplar_bytes(const gen_args *a) {
 static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
                         double *need_out) {
     double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a);
-    double have = a->max_memory_gb > 0 ? a->max_memory_gb * 1e9 : available_bytes();
     *need_out = need;
-    if (need > have)
-        return pg_cli_usage_error(cli,
-                                  "--tiles %ld --tile-size %ld: needs about %.2f GB of memory, "
-                                  "more than the %.2f GB %s (raise it with --max-memory GB)",
-                                  a->tiles, a->tile_size, need / 1e9, have / 1e9,
-                                  a->max_memory_gb > 0 ? "allowed by --max-memory" : "available");
-    return 0;
+    char what[96];
+    snprintf(what, sizeof what, "--tiles %ld --tile-size %ld", a->tiles, a->tile_size);
+    return pg_cli_check_memory(cli, what, need, a->max_memory_gb);
 }
 
 static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
