@@ -63,7 +63,8 @@ static int too_close(const pm_ctx *c, uint32_t a, uint32_t b) {
 }
 
 /* Offer candidate m to texel t's sorted list (coord self). */
-static void offer(const pm_ctx *c, uint32_t self, size_t t, uint32_t m) {
+static void offer(const pm_ctx *c, uint32_t self, size_t t, uint32_t m0) {
+    const uint32_t m = m0 & ~PG_SYNTH_ORIENT_MASK; /* the table holds exemplar texels */
     if (too_close(c, self, m)) return;
     uint32_t *e = c->table + t * c->kk;
     int32_t *d = c->dist + t * c->kk;
@@ -194,6 +195,7 @@ pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, i
             int face = (int)(tex / ((size_t)c.E * c.E));
             int rem = (int)(tex % ((size_t)c.E * c.E));
             c.table[t] =
+                ~PG_SYNTH_ORIENT_MASK &
                 pg_synth_offset(ex, pg_synth_pack(face, rem % c.E, rem / c.E), c.E / 2, c.E / 2);
         }
     free(c.dist);

@@ -123,7 +123,7 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
                             "a multiple of 2^%d = %d so the coarsest level has whole texels per "
                             "tile)",
                             S, ex->levels, top_scale(ex), need);
-    if ((int64_t)p->tiles * S > PG_SYNTH_MAX_FACE_SIZE * 4)
+    if ((int64_t)p->tiles * S > 65536)
         return pg_error_set(err, PG_ERR_BADINPUT, "--tiles x --tile-size %lld: too large",
                             (long long)p->tiles * S);
     if (p->keep_levels < PG_PLANET_KEEP_AUTO || p->keep_levels > ex->levels)
@@ -271,10 +271,9 @@ static void types_fixup(const ctx *c, int scale, int parity, pg_synth_view *v) {
                 uint32_t q;
                 float vq = 0, w = 1;
                 if (k < 8) {
-                    int ex = nb[k][0], ey = nb[k][1], ox = -ex, oy = -ey;
+                    int ex = nb[k][0], ey = nb[k][1];
                     ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
-                    if (v->orient && v->orient[j]) pg_synth_orient_apply(v->orient[j], &ox, &oy);
-                    q = pg_synth_offset(c->ex, v->S[j], h * ox, h * oy);
+                    q = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
                     vq = v->V[j];
                     if (!allowed(c, m, q)) continue;
                 } else {

@@ -16,7 +16,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#define CACHE_MAGIC "PGSYNTH\x04"
+#define CACHE_MAGIC "PGSYNTH\x05" /* 5: 13-bit u, v */
 
 /* FNV-1a over 8-byte words with a final avalanche; fast enough for ~60 MB inputs. */
 uint64_t pg_synth_hash_bytes(uint64_t h, const void *data, size_t n) {

@@ -51,35 +51,49 @@ uint32_t pg_synth_hash(uint64_t seed, int scale, int face, long x, long y, int s
     return (uint32_t)(h >> 32);
 }
 
-static uint32_t offset_across_seam(const pg_synth_exemplar *ex, int face, int u, int v) {
+/* Continue a move past a face edge on the neighbouring face. pg_cube_wrap's rot takes
+ * vectors of the face landed on into the origin's frame, so the landed face's frame is
+ * reached from the origin's by 4 - rot more quarter turns. */
+static uint32_t offset_across_seam(const pg_synth_exemplar *ex, int face, int u, int v, int o) {
     const int E = ex->face_size;
     u = u < -E + 1 ? -E + 1 : (u > 2 * E - 2 ? 2 * E - 2 : u);
     v = v < -E + 1 ? -E + 1 : (v > 2 * E - 2 ? 2 * E - 2 : v);
     int rot;
     int64_t id = pg_cube_wrap(&ex->grid, face, u, v, &rot);
     int64_t per = (int64_t)E * E;
-    return pg_synth_pack((int)(id / per), (int)(id % per % E), (int)(id % per / E));
+    uint32_t c = pg_synth_pack((int)(id / per), (int)(id % per % E), (int)(id % per / E));
+    return pg_synth_with_orient(c, o + 4 - rot);
 }
 
 /* The hot path of pg_synth_offset, inlined into the correction loops. */
 static inline uint32_t offs(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
     const int E = ex->face_size;
+    if (c & PG_SYNTH_ORIENT_MASK) return pg_synth_offset(ex, c, du, dv);
     int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
     if ((unsigned)u < (unsigned)E && (unsigned)v < (unsigned)E)
-        return (c & 0xf0000000u) | ((uint32_t)v << 14) | (uint32_t)u;
+        return (c & 0xfc000000u) | ((uint32_t)v << 13) | (uint32_t)u;
     return pg_synth_offset(ex, c, du, dv);
 }
 
 uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv) {
-    const int E = ex->face_size;
+    const int E = ex->face_size, o = pg_synth_orient(c);
+    if (o) pg_synth_orient_apply(o, &du, &dv);
     int u = pg_synth_u(c) + du, v = pg_synth_v(c) + dv;
     if (ex->torus) {
         u &= E - 1;
         v &= E - 1;
     } else if ((unsigned)u >= (unsigned)E || (unsigned)v >= (unsigned)E) {
-        return offset_across_seam(ex, pg_synth_face(c), u, v);
+        return offset_across_seam(ex, pg_synth_face(c), u, v, o);
     }
-    return pg_synth_pack(pg_synth_face(c), u, v);
+    return pg_synth_with_orient(pg_synth_pack(pg_synth_face(c), u, v), o);
+}
+
+uint32_t pg_synth_view_move(const pg_synth_exemplar *ex, const pg_synth_view *v, ptrdiff_t i,
+                            int dx, int dy) {
+    int s = v->orient ? v->orient[i] : 0;
+    if (s) pg_synth_orient_apply(s, &dx, &dy);
+    uint32_t q = pg_synth_offset(ex, v->S[i], dx, dy);
+    return s ? pg_synth_with_orient(q, pg_synth_orient(q) + s) : q;
 }
 
 void pg_synth_orient_apply(int o, int *dx, int *dy) {
@@ -196,8 +210,10 @@ HOT void load_nbhd(const pg_synth_view *v, int x, int y, nbhd *n) {
  * frame: the offset is rotated into that texel's frame first. */
 HOT uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox, int oy) {
     int k = (ey + 1) * 3 + (ex + 1);
-    if (n->o[k]) pg_synth_orient_apply(n->o[k], &ox, &oy);
-    return offs(c->ex, n->S[k], c->h * ox, c->h * oy);
+    if (!n->o[k]) return offs(c->ex, n->S[k], c->h * ox, c->h * oy);
+    pg_synth_orient_apply(n->o[k], &ox, &oy);
+    uint32_t q = offs(c->ex, n->S[k], c->h * ox, c->h * oy);
+    return pg_synth_with_orient(q, pg_synth_orient(q) + n->o[k]); /* into the view's frame */
 }
 
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
@@ -244,8 +260,10 @@ HOT void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l
         if (seen) continue;
         add_cand(l, q0[i], 1.0f);
         const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0[i]) * c->kk : NULL;
+        /* a k-coherence match looks alike in its own frame: orient it as q0 is */
+        const uint32_t ob = q0[i] & PG_SYNTH_ORIENT_MASK;
         for (int j = 0; j < c->kk; j++)
-            add_cand(l, kc[j], 1.0f + c->kappa);
+            add_cand(l, kc[j] | ob, 1.0f + c->kappa);
     }
 }
 static inline float lane_sum(const float *acc) {

@@ -111,7 +111,9 @@ static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
     int bx = -dx, by = -dy;
     pg_synth_orient_apply((4 - rot) & 3, &bx, &by);
     uint32_t sp = r->coords[(size_t)f * n * n + pi], sq = r->coords[q];
-    a->coherent += pg_synth_offset(ex, sq, bx, by) == sp;
+    /* the moved coordinate is oriented for q's face; p's for p's: add the seam's turn */
+    uint32_t back = pg_synth_offset(ex, sq, bx, by);
+    a->coherent += pg_synth_with_orient(back, pg_synth_orient(back) + ((4 - rot) & 3)) == sp;
     a->n++;
 }
 

@@ -290,16 +290,12 @@ static void test_coherent_patches(void **state) {
         par[i] = i;
     for (int y = 0; y < N; y++)
         for (int x = 0; x < N; x++) {
+            /* coherent: the neighbour holds this texel's coordinate moved by one step
+             * (in its orientation, continuing across exemplar seams: pg_synth_offset) */
             uint32_t c = res.coords[y * N + x];
-            if (x + 1 < N &&
-                res.coords[y * N + x + 1] ==
-                    pg_synth_pack(pg_synth_face(c), pg_synth_u(c) + 1, pg_synth_v(c)) &&
-                pg_synth_u(c) + 1 < ex->face_size)
+            if (x + 1 < N && res.coords[y * N + x + 1] == pg_synth_offset(ex, c, 1, 0))
                 par[find(par, y * N + x)] = find(par, y * N + x + 1);
-            if (y + 1 < N &&
-                res.coords[(y + 1) * N + x] ==
-                    pg_synth_pack(pg_synth_face(c), pg_synth_u(c), pg_synth_v(c) + 1) &&
-                pg_synth_v(c) + 1 < ex->face_size)
+            if (y + 1 < N && res.coords[(y + 1) * N + x] == pg_synth_offset(ex, c, 0, 1))
                 par[find(par, y * N + x)] = find(par, (y + 1) * N + x);
         }
     int patches = 0, biggest = 0;

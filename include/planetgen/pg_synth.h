@@ -36,20 +36,35 @@ extern "C" {
 #define PG_SYNTH_MAX_LEVELS 10 /* corrected (analysed) levels */
 #define PG_SYNTH_MAX_K 4       /* k-coherence candidates, including the texel itself */
 
-/* ---- packed exemplar coordinates: face in bits 28..30, v in 14..27, u in 0..13 ---- */
-#define PG_SYNTH_COORD_BITS 14
+/* ---- packed exemplar coordinates: face in bits 28..30, orientation in 26..27, v in
+ * 13..25, u in 0..12 ----
+ * The orientation o is the number of quarter turns (pg_synth_orient_apply) that take an
+ * offset in the output's frame into the frame of the coordinate's exemplar face. It is
+ * 0 where synthesis starts; a move that crosses an exemplar seam adds that seam's turn,
+ * and a coordinate handed across an output seam adds the output seam's turn. So a patch
+ * keeps its orientation wherever it continues, which translations alone cannot do on a
+ * cube whose face frames are turned against each other. The exemplar's own tables
+ * (k-coherence) hold o = 0. */
+#define PG_SYNTH_COORD_BITS 13
 #define PG_SYNTH_MAX_FACE_SIZE (1 << PG_SYNTH_COORD_BITS)
+#define PG_SYNTH_ORIENT_MASK 0x0c000000u
 static inline uint32_t pg_synth_pack(int face, int u, int v) {
-    return ((uint32_t)face << 28) | ((uint32_t)v << 14) | (uint32_t)u;
+    return ((uint32_t)face << 28) | ((uint32_t)v << 13) | (uint32_t)u;
 }
 static inline int pg_synth_face(uint32_t c) {
-    return (int)(c >> 28);
+    return (int)((c >> 28) & 7u);
 }
 static inline int pg_synth_v(uint32_t c) {
-    return (int)((c >> 14) & 0x3fffu);
+    return (int)((c >> 13) & 0x1fffu);
 }
 static inline int pg_synth_u(uint32_t c) {
-    return (int)(c & 0x3fffu);
+    return (int)(c & 0x1fffu);
+}
+static inline int pg_synth_orient(uint32_t c) {
+    return (int)((c >> 26) & 3u);
+}
+static inline uint32_t pg_synth_with_orient(uint32_t c, int o) {
+    return (c & ~PG_SYNTH_ORIENT_MASK) | ((uint32_t)(o & 3) << 26);
 }
 
 typedef struct pg_synth_exemplar_params {
@@ -128,9 +143,10 @@ static inline size_t pg_synth_texel(const pg_synth_exemplar *ex, uint32_t c) {
  * level's height E_s, used to reconstruct R = E_s(S) + V for pit removal. */
 float pg_synth_level_height(const pg_synth_exemplar *ex, int scale, uint32_t c);
 
-/* Move coordinate c by (du, dv) texels: wraps on a torus; on the cube, a move past a face
- * edge continues on the neighbouring face (pg_cube_wrap), so coordinates never pile up
- * at an edge. |du|, |dv| < E. */
+/* Move coordinate c by (du, dv) texels of the output's frame (turned by c's orientation
+ * into its exemplar face's frame): wraps on a torus; on the cube, a move past a face edge
+ * continues on the neighbouring face (pg_cube_wrap) and adds that seam's turn to the
+ * orientation, so coordinates never pile up at an edge. |du|, |dv| < E. */
 uint32_t pg_synth_offset(const pg_synth_exemplar *ex, uint32_t c, int du, int dv);
 
 /* ---------------------------------- synthesis ---------------------------------- */
@@ -166,6 +182,13 @@ typedef struct pg_synth_view {
 
 /* Apply dihedral transform o to an offset (dx, dy). */
 void pg_synth_orient_apply(int o, int *dx, int *dy);
+
+/* Coordinate of view texel i moved by (dx, dy) texels of the view's frame, expressed
+ * in the view's frame: the texel's seam orientation turns the offset into its own
+ * frame, and is added to the result's orientation (a halo texel's coordinate is
+ * oriented for the neighbouring face). */
+uint32_t pg_synth_view_move(const pg_synth_exemplar *ex, const pg_synth_view *v, ptrdiff_t i,
+                            int dx, int dy);
 
 /* Uniform hash in [0, 2^32) of (seed, scale, face, x, y, salt). */
 uint32_t pg_synth_hash(uint64_t seed, int scale, int face, long x, long y, int salt);
