@@ -130,9 +130,9 @@ static pg_status save_height(const pg_planet *p, pg_planet_path_fn path_for, voi
     return st;
 }
 
-static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void *user,
-                           pg_error *err) {
+pg_json *pg_planet_meta_json(const pg_planet *p) {
     pg_json *j = pg_json_object();
+    if (!j) return NULL;
     pg_json_set_number(j, "format_version", PG_PLANET_FORMAT_VERSION);
     pg_json_set_string(j, "generator", "planetgen");
     pg_json_set_number(j, "radius_m", p->ellipsoid.a);
@@ -145,14 +145,17 @@ static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void 
     pg_json_set_string(j, "seed", seed); /* a string: JSON numbers lose 64-bit seeds */
     pg_json_set_number(j, "sea_level_m", p->sea_level);
     pg_json_set_string(j, "exemplar", p->exemplar);
-    pg_json *faces = pg_json_set_array(j, "faces");
-    for (int f = 0; f < PG_CUBE_NFACES; f++)
-        pg_json_push_string(faces, pg_cube_face_name(f));
-    const char *path = path_for(PG_PLANET_META_NAME, user);
+    return j;
+}
+
+pg_status pg_planet_write_json(pg_json *j, const char *name, pg_planet_path_fn path_for, void *user,
+                               pg_error *err) {
+    const char *path = j ? path_for(name, user) : NULL;
     FILE *fp = path ? fopen(path, "w") : NULL;
     pg_status st = PG_OK;
     if (!fp) {
-        st = pg_error_set(err, PG_ERR_IO, "%s: cannot write", PG_PLANET_META_NAME);
+        st = j ? pg_error_set(err, PG_ERR_IO, "%s: cannot write", name)
+               : pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", name);
     } else {
         int wr = pg_json_write(j, fp);
         if (fclose(fp) != 0 || wr != 0)
@@ -160,6 +163,17 @@ static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void 
     }
     pg_json_free(j);
     return st;
+}
+
+static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                           pg_error *err) {
+    pg_json *j = pg_planet_meta_json(p);
+    if (j) {
+        pg_json *faces = pg_json_set_array(j, "faces");
+        for (int f = 0; f < PG_CUBE_NFACES; f++)
+            pg_json_push_string(faces, pg_cube_face_name(f));
+    }
+    return pg_planet_write_json(j, PG_PLANET_META_NAME, path_for, user, err);
 }
 
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,

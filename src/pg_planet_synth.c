@@ -221,6 +221,34 @@ typedef struct ctx {
     double work_done, work_total;
 } ctx;
 
+/* ------------------------- distribution hooks (issue 10) ------------------------- */
+
+/* Without p->dist this process owns every tile and exchanges nothing, so the
+ * single-process path is unchanged. */
+static bool owns(const ctx *c, int f, int tx, int ty) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    return !d || d->owns(d->user, f, tx, ty);
+}
+
+static pg_status exchange(const ctx *c, int scale, const level *L, int width, pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (!d) return PG_OK;
+    pg_planet_level pl = {scale, L->r, c->S >> scale, c->T, (size_t)L->st, L->fsz, L->S, L->V};
+    return d->exchange(d->user, &pl, width, err);
+}
+
+static pg_synth_view tile_view(const level *L, int f, int x0, int y0, int w, int h) {
+    size_t o = at(L, f, x0, y0);
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, w, h, f, x0, y0};
+    return v;
+}
+
+/* Is delivered texel (x, y) of face f in one of this process's tiles? */
+static bool owned_texel(const ctx *c, int f, int64_t x, int64_t y) {
+    const int64_t ts = c->Nout / c->T;
+    return owns(c, f, (int)(x / ts), (int)(y / ts));
+}
+
 static uint8_t mask_at(const ctx *c, int r, int f, long x, long y) {
     if (!c->mask) return c->p->type_mask;
     return c->mask[((size_t)f * r + (size_t)y) * r + (size_t)x];
@@ -389,14 +417,39 @@ static pg_synth_view rect_view(const ctx *c, const level *L, int f, int x0, int 
  * polar faces, and step 2, after refreshing the borders, corrects that ring against
  * the new values on the other side. Both steps are order-independent, and the split
  * is fixed by the faces, not the tiles. */
-static void correct_subpass_all(ctx *c, int scale, int parity, level *L) {
+/* The part of the rectangle [x0, x1) x [y0, y1) of polar face f that lies in this
+ * process's tiles (all of it without dist). Sub-passes are order-independent, so
+ * correcting a strip piecewise gives the same texels. */
+static void correct_rect_owned(const ctx *c, int scale, int parity, const level *L, int f, int x0,
+                               int y0, int x1, int y1) {
+    const int ts = c->S >> scale;
+    if (!c->p->dist) {
+        pg_synth_view v = rect_view(c, L, f, x0, y0, x1, y1);
+        correct_view(c, scale, parity, &v);
+        return;
+    }
+    for (int ty = y0 / ts; ty * ts < y1; ty++)
+        for (int tx = x0 / ts; tx * ts < x1; tx++) {
+            if (!owns(c, f, tx, ty)) continue;
+            int ax = tx * ts > x0 ? tx * ts : x0, ay = ty * ts > y0 ? ty * ts : y0;
+            int bx = (tx + 1) * ts < x1 ? (tx + 1) * ts : x1,
+                by = (ty + 1) * ts < y1 ? (ty + 1) * ts : y1;
+            pg_synth_view v = rect_view(c, L, f, ax, ay, bx, by);
+            correct_view(c, scale, parity, &v);
+        }
+}
+
+static pg_status correct_subpass_all(ctx *c, int scale, int parity, level *L, pg_error *err) {
     const int ts = c->S >> scale, T = c->T, r = L->r;
     const int ntiles = 6 * T * T;
     const bool split = !c->p->independent_tiles && r > 2;
+    pg_status st = exchange(c, scale, L, 1, err);
+    if (st) return st;
     border_refresh(&c->bm, L);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < ntiles; t++) {
         int f = t / (T * T), tx = t % T, ty = t / T % T;
+        if (!owns(c, f, tx, ty)) continue;
         int x0 = tx * ts, y0 = ty * ts, x1 = x0 + ts, y1 = y0 + ts;
         if (split && polar(f)) {
             x0 = x0 < 1 ? 1 : x0, y0 = y0 < 1 ? 1 : y0;
@@ -405,18 +458,19 @@ static void correct_subpass_all(ctx *c, int scale, int parity, level *L) {
         pg_synth_view v = rect_view(c, L, f, x0, y0, x1, y1);
         correct_view(c, scale, parity, &v);
     }
-    if (!split) return;
+    if (!split) return PG_OK;
+    if ((st = exchange(c, scale, L, 1, err))) return st;
     border_refresh(&c->bm, L);
     /* the rings of the two polar faces: 4 strips each (bottom, top, left, right) */
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < 8; k++) {
         int f = k < 4 ? PG_CUBE_FACE_PZ : PG_CUBE_FACE_NZ, side = k & 3;
-        pg_synth_view v = side == 0   ? rect_view(c, L, f, 0, 0, r, 1)
-                          : side == 1 ? rect_view(c, L, f, 0, r - 1, r, r)
-                          : side == 2 ? rect_view(c, L, f, 0, 1, 1, r - 1)
-                                      : rect_view(c, L, f, r - 1, 1, r, r - 1);
-        correct_view(c, scale, parity, &v);
+        if (side == 0) correct_rect_owned(c, scale, parity, L, f, 0, 0, r, 1);
+        if (side == 1) correct_rect_owned(c, scale, parity, L, f, 0, r - 1, r, r);
+        if (side == 2) correct_rect_owned(c, scale, parity, L, f, 0, 1, 1, r - 1);
+        if (side == 3) correct_rect_owned(c, scale, parity, L, f, r - 1, 1, r, r - 1);
     }
+    return PG_OK;
 }
 
 /* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. */
@@ -458,6 +512,10 @@ static pg_pits_opts pits_opts(const ctx *c, pg_pits_method m) {
 static pg_status after_pass(ctx *c, int scale, level *L, pg_error *err) {
     bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
     if (!pits && !c->guide) return PG_OK;
+    /* Gain-pit is a whole-planet flood: not distributed; every process runs it on
+     * the whole level (deterministic, so all agree; docs/mpi.md). */
+    pg_status xs = pits ? exchange(c, scale, L, -1, err) : PG_OK;
+    if (xs) return xs;
     const int r = L->r;
     size_t n = (size_t)6 * r * r;
     float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
@@ -518,14 +576,18 @@ static pg_status run_level(ctx *c, int scale, level *L, pg_error *err) {
     const pg_planet_synth_params *p = c->p;
     double units = (double)L->r * L->r / ((double)c->N * c->N);
     for (int pass = 0; pass < p->synth.passes; pass++) {
-        for (int sp = 0; sp < 4; sp++)
-            correct_subpass_all(c, scale, pg_synth_subpass_order[sp], L);
-        pg_status st = after_pass(c, scale, L, err);
+        pg_status st = PG_OK;
+        for (int sp = 0; sp < 4 && !st; sp++)
+            st = correct_subpass_all(c, scale, pg_synth_subpass_order[sp], L, err);
+        if (!st) st = after_pass(c, scale, L, err);
         if (st) return st;
         progress(c, units / p->synth.passes);
     }
-    if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1)
+    if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1) {
+        pg_status st = exchange(c, scale, L, -1, err); /* a coarse level: cheap */
+        if (st) return st;
         land_agreement(c, scale, L);
+    }
     return PG_OK;
 }
 
@@ -681,9 +743,38 @@ static double jitter_for(const ctx *c, int scale) {
 
 static void jitter_level(const ctx *c, int scale, level *L) {
     double r = jitter_for(c, scale);
+    const int ts = c->S >> scale;
     for (int f = 0; f < 6; f++) {
-        pg_synth_view v = face_view(L, f);
-        pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+        if (!c->p->dist) {
+            pg_synth_view v = face_view(L, f);
+            pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+            continue;
+        }
+        for (int t = 0; t < c->T * c->T; t++) /* the jitter hashes global texel ids */
+            if (owns(c, f, t % c->T, t / c->T)) {
+                pg_synth_view v = tile_view(L, f, t % c->T * ts, t / c->T * ts, ts, ts);
+                pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+            }
+    }
+}
+
+/* Upsample the parent level into the child (per owned tile with dist: a child texel
+ * reads only its parent texel, and tiles nest across levels). */
+static void upsample_level(const ctx *c, int s, const level *parent, level *child) {
+    const int pts = c->S >> (s + 1);
+    for (int f = 0; f < 6; f++) {
+        if (!c->p->dist) {
+            pg_synth_view pv = face_view(parent, f), cv = face_view(child, f);
+            pg_synth_upsample(c->ex, s, &pv, &cv);
+            continue;
+        }
+        for (int t = 0; t < c->T * c->T; t++)
+            if (owns(c, f, t % c->T, t / c->T)) {
+                int x = t % c->T * pts, y = t / c->T * pts;
+                pg_synth_view pv = tile_view(parent, f, x, y, pts, pts),
+                              cv = tile_view(child, f, 2 * x, 2 * y, 2 * pts, 2 * pts);
+                pg_synth_upsample(c->ex, s, &pv, &cv);
+            }
     }
 }
 
@@ -709,10 +800,7 @@ static pg_status synthesize(ctx *c, level *out, pg_error *err) {
                               cur.r * 2);
             break;
         }
-        for (int f = 0; f < 6; f++) {
-            pg_synth_view pv = face_view(&cur, f), cv = face_view(&nxt, f);
-            pg_synth_upsample(c->ex, s, &pv, &cv);
-        }
+        upsample_level(c, s, &cur, &nxt);
         level_free(&cur);
         cur = nxt;
         nxt = (level){0};
@@ -792,10 +880,12 @@ static void magnified_texel(const ctx *c, const level *L, int f, int64_t X, int6
 
 /* Row `row` (face row / n, texel row row % n) of the delivered planet: heights into h,
  * albedo into rgb, when not NULL. */
-static void deliver_row(const ctx *c, const level *L, int64_t row, float *h, float *rgb) {
+/* With all false, only the texels of this process's tiles (all of them without dist). */
+static void deliver_row(const ctx *c, const level *L, int64_t row, float *h, float *rgb, bool all) {
     const int64_t n = c->Nout;
     const int f = (int)(row / n);
     for (int64_t x = 0; x < n; x++) {
+        if (!all && c->p->dist && !owned_texel(c, f, x, row % n)) continue;
         texel_out o;
         magnified_texel(c, L, f, x, row % n, &o);
         if (h) h[x] = o.h;
@@ -804,10 +894,10 @@ static void deliver_row(const ctx *c, const level *L, int64_t row, float *h, flo
     }
 }
 
-static void finest_heights(const ctx *c, const level *L, float *H) {
+static void finest_heights(const ctx *c, const level *L, float *H, bool all) {
 #pragma omp parallel for schedule(static)
     for (int64_t row = 0; row < 6 * c->Nout; row++)
-        deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL);
+        deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL, all);
 }
 
 static pg_status final_pits(ctx *c, float *H, pg_error *err) {
@@ -840,9 +930,14 @@ static void render(const ctx *c, const level *L, const float *H, pg_planet *out,
     for (int64_t row = 0; row < 6 * n; row++) {
         int f = (int)(row / n);
         int64_t y = row % n;
-        deliver_row(c, L, row, NULL, out->albedo[f] + (size_t)y * n * 3);
-        memcpy(out->height[f] + (size_t)y * n, H + (size_t)row * n, (size_t)n * sizeof *H);
+        deliver_row(c, L, row, NULL, out->albedo[f] + (size_t)y * n * 3, false);
+        if (!c->p->dist)
+            memcpy(out->height[f] + (size_t)y * n, H + (size_t)row * n, (size_t)n * sizeof *H);
         for (int64_t x = 0; x < n; x++) {
+            if (c->p->dist) {
+                if (!owned_texel(c, f, x, y)) continue;
+                out->height[f][(size_t)y * n + x] = H[(size_t)row * n + x];
+            }
             uint32_t q = L->S[at(L, f, (int)(x / m), (int)(y / m))];
             if (coords) coords[(size_t)row * n + x] = q;
             if (c->use_types)
@@ -882,8 +977,15 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
         (void)tmpV;
     }
     if (!st) {
+        /* Distributed: the final pit removal and the depression counts are whole-planet
+         * steps, run by every process on the whole level (docs/mpi.md); otherwise the
+         * magnification needs the two texel rings around this process's tiles. */
+        bool all = (p->pits && p->final_pits) || p->pit_stats;
+        st = exchange(&c, 0, &L, all ? -1 : 2, err);
+    }
+    if (!st) {
         border_refresh(&c.bm, &L); /* the magnification reads across face seams */
-        finest_heights(&c, &L, H);
+        finest_heights(&c, &L, H, !p->dist || (p->pits && p->final_pits) || p->pit_stats);
         free(L.V); /* S stays for the albedo */
         L.V = NULL;
         st = final_pits(&c, H, err);

@@ -61,6 +61,13 @@ void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png"
 typedef const char *(*pg_planet_path_fn)(const char *name, void *user);
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user, pg_error *err);
 
+/* planet.json's parameters as a JSON object (NULL when out of memory; caller frees),
+ * and writing a JSON object to path_for(name) (frees j; NULL j is out of memory). */
+struct pg_json;
+struct pg_json *pg_planet_meta_json(const pg_planet *p);
+pg_status pg_planet_write_json(struct pg_json *j, const char *name, pg_planet_path_fn path_for,
+                               void *user, pg_error *err);
+
 /* A pg_planet_path_fn (also usable with pg_export_write) that names files straight
  * inside d->dir, no temporary names: pass a pg_dir_paths as `user`. */
 typedef struct pg_dir_paths {

@@ -112,6 +112,34 @@ typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE } pg_planet_layo
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
 #define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
 
+/* DISTRIBUTION HOOKS (issue 10; filled by pg_mpi.h, NULL in a single process). A
+ * level of the synthesis, as the hooks see it: face f's texel (x, y), x and y in
+ * -1..r (the one-texel border holds the neighbouring faces' edges), is element
+ * f * face_stride + (y + 1) * stride + x + 1 of S and V. Tiles are ts x ts texels
+ * at this level, T x T per face. */
+typedef struct pg_planet_level {
+    int scale, r, ts, T;
+    size_t stride, face_stride;
+    uint32_t *S;
+    float *V;
+} pg_planet_level;
+
+/* With dist set, this process corrects, upsamples, jitters and delivers only the
+ * tiles `owns` accepts, and calls `exchange` whenever it is about to read texels of
+ * other tiles: width 1 before every correction step (the neighbours' current edges),
+ * width 2 before the magnified delivery, and width -1 (every texel of the level)
+ * before the whole-planet steps it does not distribute (Gain-pit, the land/ocean
+ * agreement, the final pit removal and depression counts; docs/mpi.md). After
+ * exchange(width >= 0), every texel within `width` of an owned tile (through face
+ * seams for the first ring) holds its owner's current value; the others are stale and
+ * never read. A sub-pass reads only its 3 x 3 neighbourhood, so the owned texels come
+ * out bit-identical to a single-process run. */
+typedef struct pg_planet_synth_dist {
+    void *user;
+    bool (*owns)(void *user, int face, int tx, int ty);
+    pg_status (*exchange)(void *user, const pg_planet_level *L, int width, pg_error *err);
+} pg_planet_synth_dist;
+
 typedef struct pg_planet_synth_params {
     int tiles, tile_size;        /* T, S; S must be a multiple of 2^(levels-1) */
     pg_synth_params synth;       /* seed, jitter, passes, ... (tile_size ignored) */
@@ -132,6 +160,9 @@ typedef struct pg_planet_synth_params {
                                     edge continued), to show that seams then appear */
     void (*progress)(void *user, double frac); /* optional */
     void *progress_user;
+
+    /* distribution (issue 10): NULL, this process synthesizes every tile */
+    const pg_planet_synth_dist *dist;
 } pg_planet_synth_params;
 
 void pg_planet_synth_params_default(pg_planet_synth_params *p);

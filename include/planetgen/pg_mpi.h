@@ -1,0 +1,93 @@
+/* pg_mpi.h - MPI-distributed planet synthesis (issue 10): which process owns which
+ * tiles, the tile-edge exchange the synthesis needs at every level and sub-pass, and
+ * the few collectives the CLI needs to start, agree and stop together.
+ *
+ * THE IDEA. The synthesis (pg_planet_synth.h) corrects every tile from its own texels
+ * and a one-texel halo of its neighbours' current edges. So a process that owns a set
+ * of tiles needs, before each correction step, only the ring of texels around its
+ * tiles; the owners of the neighbouring tiles send them point-to-point. Plans (which
+ * texel goes to which rank) are computed by every rank from the same ownership
+ * function, so they need no negotiation, and they are cached per level.
+ *
+ * OWNERSHIP. Tiles are numbered face-major, t = f T^2 + ty T + tx, and rank q owns the
+ * contiguous block [q n / P, (q + 1) n / P) of the n = 6 T^2 tiles: balanced by count
+ * (blocks differ by at most one tile) and each face's tiles together where the block
+ * boundaries allow.
+ *
+ * What is NOT distributed (docs/mpi.md says why and what it costs): the Gain-pit pass
+ * inside the synthesis, the land/ocean agreement figure, the final pit removal and the
+ * depression counts run on the whole level on every rank, after an allgather of the
+ * level (width -1 exchanges). With --pits off none of these run and each rank touches
+ * only its tiles and their rings.
+ *
+ * Without MPI (cmake -DPG_MPI=OFF) the same functions exist: pg_mpi_built() is false,
+ * pg_mpi_init refuses, and the CLI refuses to run under a launcher with more than one
+ * rank (pg_mpi_launcher_size). */
+#ifndef PLANETGEN_PG_MPI_H
+#define PLANETGEN_PG_MPI_H
+
+#include "planetgen/pg_common.h"
+#include "planetgen/pg_planet_synth.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Whether this build has MPI (PG_MPI). */
+bool pg_mpi_built(void);
+
+/* The ranks a launcher (mpirun / srun) started, from OMPI_COMM_WORLD_SIZE, PMI_SIZE or
+ * PMIX_SIZE; 1 when there is none. Works without MPI: it is how a build without MPI
+ * notices that it was launched by mpirun. *rank gets the launcher's rank (or 0). */
+int pg_mpi_launcher_size(int *rank);
+
+typedef struct pg_mpi pg_mpi;
+
+/* MPI_Init (MPI_THREAD_FUNNELED: only the main thread calls MPI; OpenMP threads
+ * never do). PG_ERR_RUNTIME without MPI. */
+pg_status pg_mpi_init(pg_mpi **out, pg_error *err);
+void pg_mpi_finalize(pg_mpi *m);
+/* Kill the whole job (MPI_Abort) with this exit code. */
+void pg_mpi_abort(pg_mpi *m, int code);
+
+int pg_mpi_rank(const pg_mpi *m);
+int pg_mpi_size(const pg_mpi *m);
+void pg_mpi_barrier(pg_mpi *m);
+/* Allreduce: the largest v over the ranks. */
+int pg_mpi_max_int(pg_mpi *m, int v);
+/* Gather one double per rank to rank 0 (out: size doubles, on rank 0 only). */
+void pg_mpi_gather_double(pg_mpi *m, double v, double *out);
+/* Allreduce: the sum of v over the ranks. */
+double pg_mpi_sum_double(pg_mpi *m, double v);
+
+/* Ownership (no MPI needed): the first tile of `rank`'s block; rank = nranks gives
+ * ntiles. */
+int pg_mpi_tile_first(int ntiles, int nranks, int rank);
+/* The rank that owns tile t. */
+int pg_mpi_tile_owner(int ntiles, int nranks, int t);
+
+/* What a rank sent, per synthesis scale (index = scale, 0 finest). */
+#define PG_MPI_MAX_SCALES 16
+typedef struct pg_mpi_stats {
+    double halo_bytes[PG_MPI_MAX_SCALES];   /* tile edges sent point-to-point */
+    double gather_bytes[PG_MPI_MAX_SCALES]; /* own tiles sent in allgathers (width -1) */
+    int halo_messages[PG_MPI_MAX_SCALES];
+    int exchanges[PG_MPI_MAX_SCALES];
+    double seconds; /* inside exchanges, waiting included */
+} pg_mpi_stats;
+
+/* Fill the synthesis hooks for a planet of `tiles` x `tiles` tiles per face. The hooks
+ * hold m; statistics accumulate in pg_mpi_stats_get. TEST ONLY: with the environment
+ * variable PG_MPI_TEST_FAIL_AT=RANK:SCALE, rank RANK dies (_exit, no clean-up, as a
+ * crash would) at its first exchange at that scale, after printing one line. */
+void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d);
+const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,236 @@
+/* test_mpi_generate.c - `mpirun -np N planetgen generate` (issue 10) end to end: the
+ * tiled output of 1, 2 and 4 ranks is byte for byte the single-process tiled output
+ * (default pits, --pits off, other final pit methods, a magnified planet); a rank that
+ * dies mid-run makes the job exit non-zero with its line and leaves no output; more
+ * ranks than tiles and the single-file layout under mpirun exit 2 with one line.
+ *
+ * mpirun runs as root here, so the test sets OpenMPI's allow-run-as-root variables;
+ * --oversubscribe lets 4 ranks share 2 cores. Each rank runs one OpenMP thread so that
+ * the ranks do not fight over the cores (the results never depend on it). Under
+ * AddressSanitizer, LeakSanitizer reports OpenMPI's own allocations at exit; the test
+ * points LSAN_OPTIONS at tests/lsan_openmpi.supp for the ranks (see that file). */
+#include "pg_test.h"
+
+#include "planetgen/pg_mpi.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char out[16384], err[16384];
+
+/* Run `mpirun -np np planetgen ARGS` with extra environment `env` (NAME=V ...). */
+static int run_mpi(int np, const char *env, const char *args) {
+    char cmd[4096], outp[256], errp[256];
+    snprintf(outp, sizeof outp, "/tmp/pg_mpi_out.%d", (int)getpid());
+    snprintf(errp, sizeof errp, "/tmp/pg_mpi_err.%d", (int)getpid());
+    snprintf(cmd, sizeof cmd,
+             "env %s mpirun --oversubscribe -np %d -x OMP_NUM_THREADS=1 '%s' %s >%s 2>%s "
+             "</dev/null",
+             env ? env : "", np, pg_test_cli(), args, outp, errp);
+    int st = system(cmd);
+    FILE *f = fopen(errp, "r");
+    size_t n = f ? fread(err, 1, sizeof err - 1, f) : 0;
+    err[n] = 0;
+    if (f) fclose(f);
+    f = fopen(outp, "r");
+    n = f ? fread(out, 1, sizeof out - 1, f) : 0;
+    out[n] = 0;
+    if (f) fclose(f);
+    unlink(outp);
+    unlink(errp);
+    if (st == -1 || !WIFEXITED(st)) return -1;
+    return WEXITSTATUS(st);
+}
+
+static int setup(void **state) {
+    (void)state;
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+    char supp[1024];
+    snprintf(supp, sizeof supp, "suppressions=%s/tests/lsan_openmpi.supp:print_suppressions=0",
+             pg_test_source_dir());
+    setenv("LSAN_OPTIONS", supp, 1);
+    return 0;
+}
+
+static long file_size(const char *p) {
+    FILE *f = fopen(p, "rb");
+    if (!f) return -1;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fclose(f);
+    return n;
+}
+
+static int same_bytes(const char *a, const char *b) {
+    long n = file_size(a);
+    if (n < 0 || n != file_size(b)) return 0;
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    int same = fa && fb;
+    char ba[65536], bb[65536];
+    size_t k;
+    while (same && (k = fread(ba, 1, sizeof ba, fa)) > 0)
+        same = fread(bb, 1, k, fb) == k && !memcmp(ba, bb, k);
+    if (fa) fclose(fa);
+    if (fb) fclose(fb);
+    return same;
+}
+
+/* Every file of `ref` is in `dir` with the same bytes, and dir has no other file. */
+static void expect_same_dir(const char *ref, const char *dir) {
+    DIR *d = opendir(ref);
+    assert_non_null(d);
+    struct dirent *e;
+    int n = 0;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        char a[1024], b[1024];
+        snprintf(a, sizeof a, "%s/%s", ref, e->d_name);
+        snprintf(b, sizeof b, "%s/%s", dir, e->d_name);
+        if (!same_bytes(a, b)) fail_msg("%s differs from %s", b, a);
+        n++;
+    }
+    closedir(d);
+    assert_int_equal(pg_test_count_files(dir), n);
+}
+
+/* Single-process tiled run of `opts` into dir/ref, then mpirun with each rank count
+ * into dir/npN, each compared byte for byte. */
+static void expect_identical(const char *tag, const char *opts, const int *nps, int nnp) {
+    char dir[512], args[2048], ref[700], got[700];
+    pg_test_scratch_dir(tag, dir, sizeof dir);
+    snprintf(ref, sizeof ref, "%s/ref", dir);
+    snprintf(args, sizeof args,
+             "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s",
+             getenv("PG_BUILD_DIR"), opts, ref);
+    int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 0) fail_msg("single process: exit %d: %s", rc, err);
+    /* 6 T^2 tiles, two files each, and the index */
+    char idx[800];
+    snprintf(idx, sizeof idx, "%s/index.json", ref);
+    assert_true(pg_test_file_nonempty(idx));
+    for (int i = 0; i < nnp; i++) {
+        snprintf(got, sizeof got, "%s/np%d", dir, nps[i]);
+        snprintf(args, sizeof args,
+                 "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s",
+                 getenv("PG_BUILD_DIR"), opts, got);
+        rc = run_mpi(nps[i], NULL, args);
+        if (rc != 0) fail_msg("mpirun -np %d: exit %d: %s", nps[i], rc, err);
+        expect_same_dir(ref, got);
+    }
+}
+
+/* The default planet's pipeline (Gain-pit at every level but the finest, final
+ * epsilon-breach) on a small planet, for 1, 2 and 4 ranks. */
+static void test_identical_default(void **state) {
+    (void)state;
+    const int nps[] = {1, 2, 4};
+    expect_identical("mpi-default", "--tiles 2 --tile-size 32 --seed 5", nps, 3);
+}
+
+/* --pits off: nothing is gathered, each rank delivers only its tiles and their rings. */
+static void test_identical_pits_off(void **state) {
+    (void)state;
+    const int nps[] = {2};
+    expect_identical("mpi-pits-off", "--tiles 2 --tile-size 32 --seed 6 --pits off", nps, 1);
+}
+
+/* The other final pit removals give the same heights too. */
+static void test_identical_final_fill_hybrid(void **state) {
+    (void)state;
+    const int nps[] = {2};
+    expect_identical("mpi-fill", "--tiles 2 --tile-size 32 --seed 7 --final-pits fill", nps, 1);
+    expect_identical("mpi-hybrid", "--tiles 2 --tile-size 32 --seed 7 --final-pits hybrid", nps, 1);
+}
+
+/* A magnified planet (N = 1024 > the exemplar's 512: the delivery reads two synthesized
+ * texels beyond each tile), --pits off so that the width-2 exchange is what feeds it. */
+static void test_identical_magnified(void **state) {
+    (void)state;
+    const int nps[] = {2};
+    expect_identical("mpi-magnified", "--tiles 2 --tile-size 512 --seed 8 --pits off", nps, 1);
+}
+
+/* Rank 1 dies at scale 2 (PG_MPI_TEST_FAIL_AT): non-zero exit, its line, and no file
+ * left (no index.json above all: the directory is never presented as complete). */
+static void test_rank_failure(void **state) {
+    (void)state;
+    char dir[512], args[2048], o[700];
+    pg_test_scratch_dir("mpi-fail", dir, sizeof dir);
+    snprintf(o, sizeof o, "%s/o", dir);
+    snprintf(args, sizeof args,
+             "generate -q --tiles 2 --tile-size 32 --cache-dir %s/synth-cache -o %s",
+             getenv("PG_BUILD_DIR"), o);
+    int rc = run_mpi(2, "PG_MPI_TEST_FAIL_AT=1:2", args);
+    if (rc == 0) fail_msg("a dead rank gave exit 0: %s", err);
+    if (!strstr(err, "rank 1: PG_MPI_TEST_FAIL_AT: simulated crash at scale 2"))
+        fail_msg("no clear message: %s", err);
+    char idx[800];
+    snprintf(idx, sizeof idx, "%s/index.json", o);
+    assert_false(pg_test_file_nonempty(idx));
+    if (pg_test_count_files(o) != 0) fail_msg("%d files left in %s", pg_test_count_files(o), o);
+}
+
+static int planetgen_lines(const char *s) {
+    int n = 0;
+    for (const char *p = s; (p = strstr(p, "planetgen ")); p++)
+        if (p == s || p[-1] == '\n') n++;
+    return n;
+}
+
+static void test_bad_input(void **state) {
+    (void)state;
+    char dir[512], args[2048];
+    pg_test_scratch_dir("mpi-bad", dir, sizeof dir);
+    snprintf(args, sizeof args, "generate --tiles 1 --tile-size 32 -o %s/o", dir);
+    int rc = run_mpi(7, NULL, args);
+    if (rc != 2 || !strstr(err, "more ranks than the 6 tiles"))
+        fail_msg("7 ranks, 6 tiles: exit %d, stderr '%s'", rc, err);
+    assert_int_equal(planetgen_lines(err), 1);
+    snprintf(args, sizeof args, "generate --tiles 1 --tile-size 32 --output-layout planet -o %s/o",
+             dir);
+    rc = run_mpi(2, NULL, args);
+    if (rc != 2 || !strstr(err, "--output-layout planet"))
+        fail_msg("planet layout under mpirun: exit %d, stderr '%s'", rc, err);
+    assert_int_equal(planetgen_lines(err), 1);
+    assert_int_equal(pg_test_count_files(dir), 0);
+}
+
+/* Ownership: balanced by count (blocks differ by at most one tile), contiguous in the
+ * face-major order, and owner() inverts first(). */
+static void test_ownership(void **state) {
+    (void)state;
+    for (int n = 6; n <= 6 * 16 * 16; n += 18)
+        for (int P = 1; P <= 40 && P <= n; P++) {
+            int lo = n, hi = 0;
+            for (int q = 0; q < P; q++) {
+                int a = pg_mpi_tile_first(n, P, q), b = pg_mpi_tile_first(n, P, q + 1);
+                lo = b - a < lo ? b - a : lo;
+                hi = b - a > hi ? b - a : hi;
+                for (int t = a; t < b; t++)
+                    assert_int_equal(pg_mpi_tile_owner(n, P, t), q);
+            }
+            assert_true(hi - lo <= 1);
+            assert_int_equal(pg_mpi_tile_first(n, P, P), n);
+        }
+    /* 4 ranks on 6 x 2^2 tiles: 6 tiles each, so rank 0 has face +X and half of -X */
+    assert_int_equal(pg_mpi_tile_first(24, 4, 1), 6);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ownership),
+        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_identical_default),
+        cmocka_unit_test(test_identical_pits_off),
+        cmocka_unit_test(test_identical_final_fill_hybrid),
+        cmocka_unit_test(test_identical_magnified),
+        cmocka_unit_test(test_rank_failure),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
