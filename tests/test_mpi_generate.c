@@ -153,7 +153,8 @@ static void test_identical_final_fill_hybrid(void **state) {
 static void test_identical_magnified(void **state) {
     (void)state;
     const int nps[] = {2};
-    expect_identical("mpi-magnified", "--tiles 2 --tile-size 512 --seed 8 --pits off", nps, 1);
+    expect_identical("mpi-magnified",
+                     "--tiles 2 --tile-size 512 --face-size 512 --seed 8 --pits off", nps, 1);
 }
 
 /* Rank 1 dies at scale 2 (PG_MPI_TEST_FAIL_AT): non-zero exit, its line, and no file

@@ -86,6 +86,25 @@ typedef struct pg_mpi_stats {
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d);
 const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m);
 
+/* Distributed plain depression filling on the cube sphere (Barnes 2016, "Flexibly
+ * distributed Priority-Flood depression filling for teracell DEMs";
+ * src/pg_mpi_pits_barnes2016.c): each rank floods its tiles, builds the spill graph over
+ * their perimeters, rank 0 solves it, every rank applies it. h holds the planet's 6 n^2
+ * heights (pg_pits cube ids) in this rank's address space, of which only the rank's
+ * tiles (n / tiles texels square, owned as pg_mpi_tile_owner says) need be valid; they
+ * come out bit-identical to pg_pits_remove's plain fill, and a one-cell ring around them
+ * is overwritten with the neighbours' heights. Preconditions (BADINPUT otherwise):
+ * o->method fill without epsilon, a sea level, no lakes, no no-data, at least one cell
+ * at or below the sea level. Collective. */
+typedef struct pg_mpi_pits_info {
+    double flood_seconds, solve_seconds; /* steps 1-2 on this rank; 3-4 (rank 0 solving) */
+    double edges;                        /* spill-graph edges this rank sent */
+    double labels;                       /* labels of the whole graph */
+    uint64_t raised;                     /* cells of this rank raised */
+} pg_mpi_pits_info;
+pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                           pg_mpi_pits_info *info, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

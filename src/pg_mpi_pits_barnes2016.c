@@ -1,0 +1,477 @@
+/* pg_mpi_pits_barnes2016.c - distributed depression filling on the cube sphere.
+ *
+ * Source: R. Barnes (2016), "Flexibly distributed Priority-Flood depression filling
+ * for teracell DEMs" (arXiv:1608.04431; Computers & Geosciences 96). Its four steps,
+ * with the ranks of pg_mpi.h owning cube tiles:
+ *   1. each rank floods each of its tiles alone (Improved Priority-Flood, Barnes et al.
+ *      2014), seeded with the tile's sinks (label OUTLET) and with every perimeter cell
+ *      (a cell with a neighbour in another tile) under its own label 2 + cell id;
+ *      every cell joins the label it was flooded from;
+ *   2. it builds the graph of spill elevations over those labels: where two labels
+ *      meet inside a tile, max(W(a), W(b)); for every pair of neighbouring cells in two
+ *      tiles, max(h(a), h(b)) (sinks count as -inf) - the neighbour's height comes from
+ *      a one-cell ring exchange, its label is known without asking (2 + id, or OUTLET);
+ *   3. rank 0 gathers the (small: perimeter-sized) graph and solves it: a minimax
+ *      Dijkstra from OUTLET gives each label the lowest level at which its water
+ *      reaches a sink;
+ *   4. rank 0 broadcasts the levels, and every rank raises its cells to the level of
+ *      their label: h = max(h, level(label)).
+ * Preconditions: plain fill (no epsilon), sinks = cells at or below the sea level (no
+ * lakes, no no-data), at least one sink on the planet (the serial fill would otherwise
+ * pick the lowest cell, a global choice). Why it is correct: as the in-process version
+ * (pg_pits_barnes2016_parallel_fill.c): the minimal fill of a cell is the minimax
+ * height of its paths to a sink; inside a tile the flood gives the minimax to its
+ * label's seed, and the graph composes the segments exactly. The minimal fill is
+ * unique, so every owned cell comes out bit-identical to pg_pits_remove's plain fill
+ * (the test compares them for 1, 2 and 4 ranks). */
+#include "planetgen/pg_mpi.h"
+
+#include "pg_pits_internal.h"
+
+#include <stdlib.h>
+
+#ifdef PG_HAVE_MPI
+
+#include <limits.h>
+#include <mpi.h>
+
+enum { OUTLET = 1 };
+
+typedef struct fedge {
+    uint32_t a, b;
+    float w;
+} fedge;
+
+typedef struct fedges {
+    fedge *e;
+    size_t n, cap;
+    int oom;
+} fedges;
+
+static void fedge_push(fedges *v, uint32_t a, uint32_t b, float w) {
+    if (a == b) return;
+    if (v->n == v->cap) {
+        size_t cap = v->cap ? 2 * v->cap : 4096;
+        fedge *e = realloc(v->e, cap * sizeof *e);
+        if (!e) {
+            v->oom = 1;
+            return;
+        }
+        v->e = e, v->cap = cap;
+    }
+    if (a > b) {
+        uint32_t t = a;
+        a = b, b = t;
+    }
+    v->e[v->n++] = (fedge){a, b, w};
+}
+
+static int cmp_fedge(const void *x, const void *y) {
+    const fedge *a = x, *b = y;
+    if (a->a != b->a) return a->a < b->a ? -1 : 1;
+    if (a->b != b->b) return a->b < b->b ? -1 : 1;
+    return a->w < b->w ? -1 : a->w > b->w;
+}
+
+/* Keep the lowest spill height of each label pair: the graph's answer is the same. */
+static void fedge_compact(fedges *v) {
+    if (!v->n) return;
+    qsort(v->e, v->n, sizeof *v->e, cmp_fedge);
+    size_t k = 1;
+    for (size_t i = 1; i < v->n; i++)
+        if (v->e[i].a != v->e[k - 1].a || v->e[i].b != v->e[k - 1].b) v->e[k++] = v->e[i];
+    v->n = k;
+}
+
+typedef struct dfill {
+    pg_mpi *m;
+    const pg_pits_topo *t;
+    int T;
+    uint32_t n, ts;
+    float *h;
+    double sea;
+    uint32_t *label;
+} dfill;
+
+static int tile_of(const dfill *d, uint32_t id) {
+    uint32_t per = d->n * d->n, f = id / per, y = id % per / d->n, x = id % d->n;
+    return (int)(f * (uint32_t)d->T * (uint32_t)d->T + y / d->ts * (uint32_t)d->T + x / d->ts);
+}
+
+static uint32_t tile_cell(const dfill *d, int t, uint32_t x, uint32_t y) {
+    uint32_t T = (uint32_t)d->T, f = (uint32_t)t / (T * T), tx = (uint32_t)t % T,
+             ty = (uint32_t)t / T % T;
+    return f * d->n * d->n + (ty * d->ts + y) * d->n + tx * d->ts + x;
+}
+
+static bool sink(const dfill *d, uint32_t id) {
+    return d->h[id] <= d->sea;
+}
+
+static float eff(const dfill *d, uint32_t id) {
+    return sink(d, id) ? -INFINITY : d->h[id];
+}
+
+/* The label a perimeter cell has after step 1, known to every rank. */
+static uint32_t perimeter_label(const dfill *d, uint32_t id) {
+    return sink(d, id) ? OUTLET : 2 + id;
+}
+
+/* ---- the ring of heights around a rank's tiles ---- */
+
+typedef struct ids {
+    uint32_t *a;
+    size_t n, cap;
+    int oom;
+} ids;
+
+static void ids_push(ids *v, uint32_t i) {
+    if (v->n == v->cap) {
+        size_t cap = v->cap ? 2 * v->cap : 1024;
+        uint32_t *a = realloc(v->a, cap * sizeof *a);
+        if (!a) {
+            v->oom = 1;
+            return;
+        }
+        v->a = a, v->cap = cap;
+    }
+    v->a[v->n++] = i;
+}
+
+static int cmp_u32(const void *x, const void *y) {
+    uint32_t a = *(const uint32_t *)x, b = *(const uint32_t *)y;
+    return a < b ? -1 : a > b;
+}
+
+static void ids_unique(ids *v) {
+    if (!v->n) return;
+    qsort(v->a, v->n, sizeof *v->a, cmp_u32);
+    size_t k = 1;
+    for (size_t i = 1; i < v->n; i++)
+        if (v->a[i] != v->a[k - 1]) v->a[k++] = v->a[i];
+    v->n = k;
+}
+
+/* Cells outside rank q's tiles that neighbour them: into recv[owner] when q is this
+ * rank, into send[q] for those this rank owns. */
+static void ring_of(const dfill *d, int q, ids *send, ids *recv) {
+    const int P = pg_mpi_size(d->m), me = pg_mpi_rank(d->m), nt = 6 * d->T * d->T;
+    const int t0 = pg_mpi_tile_first(nt, P, q), t1 = pg_mpi_tile_first(nt, P, q + 1);
+    uint32_t nb[8];
+    for (int t = t0; t < t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                if (y > 0 && y + 1 < d->ts && x == 1) x = d->ts - 1; /* perimeter only */
+                uint32_t id = tile_cell(d, t, x, y);
+                int k = pg_pits_neighbours(d->t, id, nb);
+                for (int j = 0; j < k; j++) {
+                    int o = pg_mpi_tile_owner(nt, P, tile_of(d, nb[j]));
+                    if (o == q) continue;
+                    if (q == me && o != me) ids_push(&recv[o], nb[j]);
+                    if (q != me && o == me) ids_push(&send[q], nb[j]);
+                }
+            }
+}
+
+static pg_status exchange_ring(dfill *d, pg_error *err) {
+    const int P = pg_mpi_size(d->m);
+    ids *send = calloc((size_t)P, sizeof *send), *recv = calloc((size_t)P, sizeof *recv);
+    MPI_Request *req = malloc(2 * (size_t)P * sizeof *req);
+    float **buf = calloc(2 * (size_t)P, sizeof *buf);
+    int oom = !send || !recv || !req || !buf, nreq = 0;
+    for (int q = 0; !oom && q < P; q++)
+        ring_of(d, q, send, recv);
+    for (int q = 0; !oom && q < P; q++) {
+        ids_unique(&send[q]);
+        ids_unique(&recv[q]);
+        oom |= send[q].oom | recv[q].oom;
+        buf[q] = malloc((send[q].n + 1) * sizeof **buf);
+        buf[P + q] = malloc((recv[q].n + 1) * sizeof **buf);
+        oom |= !buf[q] || !buf[P + q];
+    }
+    for (int q = 0; !oom && q < P; q++) {
+        if (send[q].n) {
+            for (size_t k = 0; k < send[q].n; k++)
+                buf[q][k] = d->h[send[q].a[k]];
+            MPI_Isend(buf[q], (int)send[q].n, MPI_FLOAT, q, 11, MPI_COMM_WORLD, &req[nreq++]);
+        }
+        if (recv[q].n)
+            MPI_Irecv(buf[P + q], (int)recv[q].n, MPI_FLOAT, q, 11, MPI_COMM_WORLD, &req[nreq++]);
+    }
+    if (!oom) MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+    for (int q = 0; !oom && q < P; q++)
+        for (size_t k = 0; k < recv[q].n; k++)
+            d->h[recv[q].a[k]] = buf[P + q][k];
+    for (int q = 0; send && recv && buf && q < P; q++) {
+        free(send[q].a), free(recv[q].a);
+        free(buf[q]), free(buf[P + q]);
+    }
+    free(send), free(recv), free(req), free(buf);
+    return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (ring)") : PG_OK;
+}
+
+/* ---- step 1 and 2: one tile ---- */
+
+static bool in_tile(const dfill *d, int t, uint32_t id) {
+    return tile_of(d, id) == t;
+}
+
+static void seed_tile(dfill *d, int t, pits_heap *q, fedges *ev) {
+    uint32_t nb[8];
+    for (uint32_t y = 0; y < d->ts; y++)
+        for (uint32_t x = 0; x < d->ts; x++) {
+            uint32_t id = tile_cell(d, t, x, y);
+            int k = pg_pits_neighbours(d->t, id, nb), outside = 0, open = 0;
+            for (int j = 0; j < k; j++) {
+                int out = !in_tile(d, t, nb[j]);
+                outside |= out;
+                open |= !out && !sink(d, nb[j]);
+                /* a pair of cells in two tiles, recorded once, from the lower id */
+                if (out && nb[j] > id)
+                    fedge_push(ev, perimeter_label(d, id), perimeter_label(d, nb[j]),
+                               fmaxf(eff(d, id), eff(d, nb[j])));
+            }
+            if (sink(d, id)) {
+                d->label[id] = OUTLET;
+                if (open) pits_heap_push(q, pits_key(-INFINITY, id));
+            } else if (outside) {
+                d->label[id] = 2 + id;
+                pits_heap_push(q, pits_key(d->h[id], id));
+            }
+        }
+}
+
+static int flood_tile(dfill *d, int t, fedges *ev) {
+    pits_heap q = {0};
+    pits_fifo pit = {0};
+    seed_tile(d, t, &q, ev);
+    uint32_t nb[8];
+    while (q.n || !pits_fifo_empty(&pit)) {
+        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(&q));
+        float wc = eff(d, c);
+        uint32_t lc = d->label[c];
+        int k = pg_pits_neighbours(d->t, c, nb);
+        for (int j = 0; j < k; j++) {
+            uint32_t n = nb[j];
+            if (!in_tile(d, t, n)) continue;
+            if (d->label[n]) {
+                if (d->label[n] != lc) fedge_push(ev, lc, d->label[n], fmaxf(wc, eff(d, n)));
+                continue;
+            }
+            d->label[n] = lc;
+            if (d->h[n] <= wc) {
+                d->h[n] = wc;
+                pits_fifo_push(&pit, n);
+            } else {
+                pits_heap_push(&q, pits_key(d->h[n], n));
+            }
+        }
+        if (q.oom || pit.oom || ev->oom) break;
+    }
+    int oom = q.oom || pit.oom || ev->oom;
+    pits_heap_free(&q);
+    pits_fifo_free(&pit);
+    return oom;
+}
+
+/* ---- step 3: rank 0 solves the label graph ---- */
+
+static uint32_t label_index(const uint32_t *labels, size_t n, uint32_t l) {
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (labels[mid] < l)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return (uint32_t)lo;
+}
+
+/* Minimax levels of the labels (sorted, unique) over the edges, from OUTLET. */
+static int solve(const fedge *e, size_t ne, const uint32_t *labels, size_t nl, float *level) {
+    uint32_t *start = calloc(nl + 1, sizeof *start);
+    fedge *adj = malloc((2 * ne + 1) * sizeof *adj);
+    uint32_t *fill = malloc((nl + 1) * sizeof *fill);
+    pits_heap q = {0};
+    int oom = !start || !adj || !fill;
+    for (size_t k = 0; !oom && k < ne; k++) {
+        start[label_index(labels, nl, e[k].a) + 1]++;
+        start[label_index(labels, nl, e[k].b) + 1]++;
+    }
+    for (size_t l = 0; !oom && l < nl; l++)
+        start[l + 1] += start[l];
+    if (!oom) memcpy(fill, start, nl * sizeof *fill);
+    for (size_t k = 0; !oom && k < ne; k++) {
+        uint32_t a = label_index(labels, nl, e[k].a), b = label_index(labels, nl, e[k].b);
+        adj[fill[a]++] = (fedge){a, b, e[k].w};
+        adj[fill[b]++] = (fedge){b, a, e[k].w};
+    }
+    for (size_t l = 0; l < nl; l++)
+        level[l] = INFINITY;
+    if (!oom && nl && labels[0] == OUTLET) {
+        level[0] = -INFINITY;
+        pits_heap_push(&q, pits_key(-INFINITY, 0));
+    }
+    while (!oom && q.n && !q.oom) {
+        uint64_t key = pits_heap_pop(&q);
+        uint32_t l = pits_key_id(key);
+        if (pits_key(level[l], l) != key) continue; /* stale */
+        for (uint32_t k = start[l]; k < start[l + 1]; k++) {
+            float w = fmaxf(level[l], adj[k].w);
+            if (w < level[adj[k].b]) {
+                level[adj[k].b] = w;
+                pits_heap_push(&q, pits_key(w, adj[k].b));
+            }
+        }
+    }
+    oom |= q.oom;
+    pits_heap_free(&q);
+    free(start), free(adj), free(fill);
+    return oom;
+}
+
+/* Gather every rank's edges on rank 0 (as 3 words each). */
+static fedge *gather_edges(dfill *d, const fedges *ev, size_t *total, int *oom) {
+    const int P = pg_mpi_size(d->m), me = pg_mpi_rank(d->m);
+    int mine = ev->n * 3 > INT_MAX ? -1 : (int)(ev->n * 3);
+    int *counts = me == 0 ? calloc(2 * (size_t)P, sizeof *counts) : NULL;
+    MPI_Gather(&mine, 1, MPI_INT, counts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    fedge *all = NULL;
+    long long sum = 0;
+    if (me == 0) {
+        for (int q = 0; counts && q < P; q++) {
+            if (counts[q] < 0) *oom = 1;
+            counts[P + q] = (int)sum;
+            sum += counts[q];
+        }
+        if (sum > INT_MAX) *oom = 1;
+        all = *oom || !counts ? NULL : malloc(((size_t)sum / 3 + 1) * sizeof *all);
+        if (!all) *oom = 1;
+    }
+    int bad = *oom;
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!bad)
+        MPI_Gatherv(ev->e, mine, MPI_UINT32_T, all, counts, counts ? counts + P : NULL,
+                    MPI_UINT32_T, 0, MPI_COMM_WORLD);
+    *oom = bad;
+    *total = (size_t)sum / 3;
+    free(counts);
+    return all;
+}
+
+/* Rank 0: solve, then broadcast (labels, levels). Every rank returns them. */
+static int solve_and_share(dfill *d, const fedges *ev, uint32_t **labels_out, float **levels_out,
+                           size_t *nl_out) {
+    size_t ne = 0, nl = 0;
+    int oom = 0;
+    fedge *all = gather_edges(d, ev, &ne, &oom);
+    uint32_t *labels = NULL;
+    float *levels = NULL;
+    if (!oom && pg_mpi_rank(d->m) == 0) {
+        labels = malloc((2 * ne + 1) * sizeof *labels);
+        oom = !labels;
+        for (size_t k = 0; !oom && k < ne; k++)
+            labels[2 * k] = all[k].a, labels[2 * k + 1] = all[k].b;
+        ids v = {labels, oom ? 0 : 2 * ne, 2 * ne, 0};
+        ids_unique(&v);
+        nl = v.n;
+        levels = oom ? NULL : malloc((nl + 1) * sizeof *levels);
+        oom = oom || !levels || solve(all, ne, labels, nl, levels);
+    }
+    free(all);
+    unsigned long long n64 = nl;
+    int bad = oom;
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(&n64, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+    if (!bad && n64 > INT_MAX) bad = 1;
+    nl = (size_t)n64;
+    if (!bad && pg_mpi_rank(d->m) != 0) {
+        labels = malloc((nl + 1) * sizeof *labels);
+        levels = malloc((nl + 1) * sizeof *levels);
+    }
+    int local_bad = !bad && (!labels || !levels);
+    MPI_Allreduce(&local_bad, &oom, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (!bad && !oom) {
+        MPI_Bcast(labels, (int)nl, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+        MPI_Bcast(levels, (int)nl, MPI_FLOAT, 0, MPI_COMM_WORLD);
+    }
+    *labels_out = labels, *levels_out = levels, *nl_out = nl;
+    return bad || oom;
+}
+
+/* ---- the whole ---- */
+
+static pg_status check(const pg_pits_opts *o, pg_error *err) {
+    if (o->method != PG_PITS_FILL || o->epsilon || !o->has_sea_level || o->lakes || o->has_nodata)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "pits (MPI): the distributed fill needs plain fill (no epsilon) "
+                            "with a sea level, no lakes and no no-data");
+    return PG_OK;
+}
+
+pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                           pg_mpi_pits_info *info, pg_error *err) {
+    pg_status st = check(o, err);
+    pg_pits_topo topo;
+    if (!st) st = pg_pits_topo_cube(&topo, n, err);
+    if (!st && (tiles < 1 || n % (uint32_t)tiles))
+        st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
+                          n, tiles);
+    if (st) return st;
+    dfill d = {m, &topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
+    const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    const int t0 = pg_mpi_tile_first(nt, P, me), t1 = pg_mpi_tile_first(nt, P, me + 1);
+    memset(info, 0, sizeof *info);
+    /* every rank must see a sink somewhere (the serial fill's fallback is global) */
+    double sinks = 0;
+    for (int t = t0; t < t1; t++)
+        for (uint32_t y = 0; y < d.ts; y++)
+            for (uint32_t x = 0; x < d.ts; x++)
+                sinks += sink(&d, tile_cell(&d, t, x, y));
+    if (pg_mpi_sum_double(m, sinks) == 0)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "pits (MPI): no cell at or below the sea level: the distributed "
+                            "fill needs an ocean");
+    st = exchange_ring(&d, err);
+    if (pg_mpi_max_int(m, st != PG_OK))
+        return st ? st : pg_error_set(err, PG_ERR_RUNTIME, "pits (MPI): another rank failed");
+    d.label = calloc(topo.ncells, sizeof *d.label); /* only the owned tiles are touched */
+    fedges ev = {0};
+    int oom = !d.label;
+    double t_start = MPI_Wtime();
+    for (int t = t0; !oom && t < t1; t++)
+        oom = flood_tile(&d, t, &ev);
+    if (!oom) fedge_compact(&ev);
+    info->flood_seconds = MPI_Wtime() - t_start;
+    info->edges = (double)ev.n;
+    oom = pg_mpi_max_int(m, oom);
+    uint32_t *labels = NULL;
+    float *levels = NULL;
+    size_t nl = 0;
+    t_start = MPI_Wtime();
+    if (!oom) oom = solve_and_share(&d, &ev, &labels, &levels, &nl);
+    info->solve_seconds = MPI_Wtime() - t_start;
+    info->labels = (double)nl;
+    for (int t = t0; !oom && t < t1; t++)
+        for (uint32_t y = 0; y < d.ts; y++)
+            for (uint32_t x = 0; x < d.ts; x++) {
+                uint32_t id = tile_cell(&d, t, x, y), l = d.label[id];
+                if (sink(&d, id)) continue;
+                float lv = levels[label_index(labels, nl, l)];
+                if (lv > h[id] && lv < INFINITY) h[id] = lv, info->raised++;
+            }
+    free(ev.e), free(d.label), free(labels), free(levels);
+    if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory");
+    return PG_OK;
+}
+
+#else
+
+pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                           pg_mpi_pits_info *info, pg_error *err) {
+    (void)m, (void)tiles, (void)n, (void)h, (void)o, (void)info;
+    return pg_error_set(err, PG_ERR_RUNTIME, "this planetgen was built without MPI");
+}
+
+#endif

@@ -1,0 +1,154 @@
+/* test_mpi_pits.c - the distributed Barnes (2016) depression fill (pg_mpi_pits_fill)
+ * gives, on every rank's tiles, exactly the serial plain fill of pg_pits_remove, for 1,
+ * 2 and 4 ranks and tiles of several sizes, on a cube-sphere DEM full of pits.
+ *
+ * The test program is its own MPI worker: the cmocka tests run
+ * `mpirun -np N THIS --worker n T seed`; each rank builds the same DEM, fills it both
+ * ways and counts differing cells in its tiles; rank 0 prints the totals and the worker
+ * exits 0 only when nothing differs and the fill raised cells (so the DEM had pits). */
+#include "pg_test.h"
+
+#include "planetgen/pg_mpi.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static const char *self;
+static char out[8192];
+
+/* Rolling terrain with hashed noise: an ocean below 0, many closed pits above. */
+static float dem(uint32_t id, uint32_t n, uint32_t seed) {
+    uint32_t per = n * n, f = id / per, y = id % per / n, x = id % n;
+    uint32_t z = (id + 1) * 2654435761u ^ seed * 2246822519u;
+    z ^= z >> 15, z *= 2246822519u, z ^= z >> 13;
+    double s = 600.0 * sin(0.21 * x + f) * cos(0.17 * y - 0.5 * f) + 150.0 * f - 200.0;
+    return (float)(s + (double)(z % 1000) * 0.4);
+}
+
+static int worker(uint32_t n, int T, uint32_t seed) {
+    pg_mpi *m = NULL;
+    pg_error err = {0};
+    if (pg_mpi_init(&m, &err)) {
+        fprintf(stderr, "worker: %s\n", err.msg);
+        return 2;
+    }
+    const size_t nc = (size_t)6 * n * n;
+    float *h = malloc(nc * sizeof *h), *ref = malloc(nc * sizeof *ref);
+    for (size_t i = 0; i < nc; i++)
+        h[i] = ref[i] = dem((uint32_t)i, n, seed);
+    pg_pits_topo topo;
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.method = PG_PITS_FILL;
+    o.epsilon = false;
+    o.has_sea_level = true;
+    o.sea_level = 0;
+    pg_mpi_pits_info info = {0};
+    int rc = pg_pits_topo_cube(&topo, n, &err) || pg_pits_remove(&topo, ref, &o, NULL, &err) ||
+             pg_mpi_pits_fill(m, T, n, h, &o, &info, &err);
+    if (rc) fprintf(stderr, "worker: %s\n", err.msg);
+    const int nt = 6 * T * T, P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    const uint32_t ts = n / (uint32_t)T;
+    double diff = 0, raised = 0;
+    for (int t = pg_mpi_tile_first(nt, P, me); !rc && t < pg_mpi_tile_first(nt, P, me + 1); t++)
+        for (uint32_t y = 0; y < ts; y++)
+            for (uint32_t x = 0; x < ts; x++) {
+                uint32_t f = (uint32_t)t / (uint32_t)(T * T), tx = (uint32_t)t % (uint32_t)T,
+                         ty = (uint32_t)t / (uint32_t)T % (uint32_t)T;
+                uint32_t id = f * n * n + (ty * ts + y) * n + tx * ts + x;
+                diff += memcmp(&h[id], &ref[id], sizeof(float)) != 0;
+                raised += ref[id] != dem(id, n, seed);
+            }
+    rc = pg_mpi_max_int(m, rc);
+    diff = pg_mpi_sum_double(m, diff);
+    raised = pg_mpi_sum_double(m, raised);
+    double labels = info.labels;
+    if (me == 0)
+        printf("ranks %d tiles %d: differing cells %.0f, raised cells %.0f, labels %.0f\n", P, nt,
+               diff, raised, labels);
+    free(h), free(ref);
+    pg_mpi_finalize(m);
+    return rc ? 2 : (diff == 0 && raised > 0 ? 0 : 1);
+}
+
+static int run_workers(int np, uint32_t n, int T, uint32_t seed) {
+    char cmd[4096], outp[256];
+    snprintf(outp, sizeof outp, "/tmp/pg_mpi_pits.%d", (int)getpid());
+    snprintf(cmd, sizeof cmd,
+             "mpirun --oversubscribe -np %d -x OMP_NUM_THREADS=1 '%s' --worker %u %d %u >%s "
+             "2>&1 </dev/null",
+             np, self, n, T, seed, outp);
+    int st = system(cmd);
+    FILE *f = fopen(outp, "r");
+    size_t k = f ? fread(out, 1, sizeof out - 1, f) : 0;
+    out[k] = 0;
+    if (f) fclose(f);
+    unlink(outp);
+    return st == -1 || !WIFEXITED(st) ? -1 : WEXITSTATUS(st);
+}
+
+static void expect_same(int np, uint32_t n, int T, uint32_t seed) {
+    int rc = run_workers(np, n, T, seed);
+    if (rc != 0 || !strstr(out, "differing cells 0"))
+        fail_msg("mpirun -np %d, n %u, T %d: exit %d: %s", np, n, T, rc, out);
+}
+
+static void test_one_rank(void **state) {
+    (void)state;
+    expect_same(1, 48, 3, 1);
+}
+
+static void test_two_ranks(void **state) {
+    (void)state;
+    expect_same(2, 48, 3, 2);
+    expect_same(2, 64, 1, 3); /* whole faces as tiles: only seam pairs cross */
+}
+
+static void test_four_ranks(void **state) {
+    (void)state;
+    expect_same(4, 64, 4, 4);
+    expect_same(4, 32, 8, 5); /* tiles of 4 x 4 texels: most cells on a perimeter */
+}
+
+/* The preconditions are refused, not silently broken. */
+static void test_preconditions(void **state) {
+    (void)state;
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    pg_error err = {0};
+    float h[6 * 4 * 4] = {0};
+    pg_mpi_pits_info info = {0};
+    o.method = PG_PITS_FILL;
+    o.epsilon = true;
+    o.has_sea_level = true;
+    assert_int_equal(pg_mpi_pits_fill(NULL, 1, 4, h, &o, &info, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "plain fill"));
+}
+
+static int setup(void **state) {
+    (void)state;
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    char supp[1024];
+    snprintf(supp, sizeof supp, "suppressions=%s/tests/lsan_openmpi.supp:print_suppressions=0",
+             pg_test_source_dir());
+    setenv("LSAN_OPTIONS", supp, 1);
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    if (argc == 5 && !strcmp(argv[1], "--worker"))
+        return worker((uint32_t)atoi(argv[2]), atoi(argv[3]), (uint32_t)atoi(argv[4]));
+    self = argv[0];
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_preconditions),
+        cmocka_unit_test(test_one_rank),
+        cmocka_unit_test(test_two_ranks),
+        cmocka_unit_test(test_four_ranks),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
