@@ -164,7 +164,8 @@ static void hash_outputs(const char *d, const char *json, bool mask_tiling, mani
     qsort(m->name, (size_t)m->n, sizeof m->name[0], cmp_names);
     for (int i = 0; i < m->n; i++) {
         char p[1024];
-        snprintf(p, sizeof p, "%s/%s", d, m->name[i]);
+        if (snprintf(p, sizeof p, "%s/%s", d, m->name[i]) >= (int)sizeof p)
+            fail_msg("path too long: %s/%s", d, m->name[i]);
         size_t n;
         unsigned char *b = slurp(p, &n);
         if (mask_tiling && (strstr(p, ".json") || strstr(p, ".glb"))) {
