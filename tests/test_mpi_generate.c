@@ -7,8 +7,7 @@
  * mpirun runs as root here, so the test sets OpenMPI's allow-run-as-root variables;
  * --oversubscribe lets 4 ranks share 2 cores. Each rank runs one OpenMP thread so that
  * the ranks do not fight over the cores (the results never depend on it). Under
- * AddressSanitizer, LeakSanitizer reports OpenMPI's own allocations at exit; the test
- * points LSAN_OPTIONS at tests/lsan_openmpi.supp for the ranks (see that file). */
+ * AddressSanitizer the ranks run without LeakSanitizer (PG_MPI_RANK_ASAN below). */
 #include "pg_test.h"
 
 #include "planetgen/pg_mpi.h"
@@ -22,15 +21,21 @@
 
 static char out[16384], err[16384];
 
+/* Under ASan, LeakSanitizer is off in the ranks: OpenMPI leaves allocations behind at
+ * exit from components it has unloaded, whose frames LSan cannot even name, so they
+ * cannot be suppressed by library. ASan's and UBSan's other checks stay on; the
+ * single-process runs of the same tests keep leak checking. */
+#define PG_MPI_RANK_ASAN "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1"
+
 /* Run `mpirun -np np planetgen ARGS` with extra environment `env` (NAME=V ...). */
 static int run_mpi(int np, const char *env, const char *args) {
     char cmd[4096], outp[256], errp[256];
     snprintf(outp, sizeof outp, "/tmp/pg_mpi_out.%d", (int)getpid());
     snprintf(errp, sizeof errp, "/tmp/pg_mpi_err.%d", (int)getpid());
     snprintf(cmd, sizeof cmd,
-             "env %s mpirun --oversubscribe -np %d -x OMP_NUM_THREADS=1 '%s' %s >%s 2>%s "
+             "env %s %s mpirun --oversubscribe -np %d -x OMP_NUM_THREADS=1 '%s' %s >%s 2>%s "
              "</dev/null",
-             env ? env : "", np, pg_test_cli(), args, outp, errp);
+             PG_MPI_RANK_ASAN, env ? env : "", np, pg_test_cli(), args, outp, errp);
     int st = system(cmd);
     FILE *f = fopen(errp, "r");
     size_t n = f ? fread(err, 1, sizeof err - 1, f) : 0;
@@ -51,10 +56,6 @@ static int setup(void **state) {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
-    char supp[1024];
-    snprintf(supp, sizeof supp, "suppressions=%s/tests/lsan_openmpi.supp:print_suppressions=0",
-             pg_test_source_dir());
-    setenv("LSAN_OPTIONS", supp, 1);
     return 0;
 }
 
