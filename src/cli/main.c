@@ -47,7 +47,9 @@ static int run_command(const pg_command *c, int argc, char **argv) {
         fprintf(stderr, "planetgen %s: cannot start the signal watcher\n", c->name);
         return 1;
     }
-    return c->run(&cli, argc, argv);
+    int rc = c->run(&cli, argc, argv);
+    pg_cli_unwatch_signals(&cli); /* before `cli` leaves scope: see pg_cli.c */
+    return rc;
 }
 
 int main(int argc, char **argv) {

@@ -55,6 +55,10 @@ static void *signal_watcher(void *arg) {
     if (sigwait(&set, &sig) != 0) return NULL;
     /* Hold the lock for good: no commit may rename files after this point. */
     pthread_mutex_lock(&cli->lock);
+    if (cli->unwatching) { /* woken by pg_cli_unwatch_signals: the command is over */
+        pthread_mutex_unlock(&cli->lock);
+        return NULL;
+    }
     remove_staged_locked(cli);
     char msg[160];
     int n = snprintf(msg, sizeof msg, "\nplanetgen %s: interrupted by %s; no output written\n",
@@ -66,10 +70,26 @@ static void *signal_watcher(void *arg) {
 }
 
 int pg_cli_watch_signals(pg_cli *cli) {
-    pthread_t t;
-    if (pthread_create(&t, NULL, signal_watcher, cli) != 0) return -1;
-    pthread_detach(t);
+    if (pthread_create(&cli->watcher, NULL, signal_watcher, cli) != 0) return -1;
+    cli->watching = true;
     return 0;
+}
+
+/* The watcher must be gone before the pg_cli is: a SIGTERM that arrives while the
+ * process exits (mpirun sends one to every rank as soon as one rank fails) once woke a
+ * detached watcher on a dead stack frame, which then unlinked whatever strings the
+ * stale staged-file list pointed to, system libraries included. The wake-up is a
+ * SIGTERM directed at the watcher thread with `unwatching` set, so no other signal
+ * number is taken from the user or from MPI. Signals that arrive afterwards stay
+ * blocked and pending; the process ends with the command's own exit code. */
+void pg_cli_unwatch_signals(pg_cli *cli) {
+    if (!cli->watching) return;
+    pthread_mutex_lock(&cli->lock);
+    cli->unwatching = true;
+    pthread_mutex_unlock(&cli->lock);
+    pthread_kill(cli->watcher, SIGTERM);
+    pthread_join(cli->watcher, NULL);
+    cli->watching = false;
 }
 
 static double now_s(void) {

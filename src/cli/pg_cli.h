@@ -70,6 +70,9 @@ typedef struct pg_cli {
     double memory_estimate; /* bytes, from pg_cli_check_memory; 0 = none made */
     /* Guards the staged-file list against the signal watcher (pg_cli_watch_signals). */
     pthread_mutex_t lock;
+    pthread_t watcher; /* the signal watcher thread, joined by pg_cli_unwatch_signals */
+    bool watching;     /* watcher started and not yet joined */
+    bool unwatching;   /* under lock: the watcher's next wake-up is the stop request */
 } pg_cli;
 
 /* Initialise a pg_cli for command `cmd`. */
@@ -82,6 +85,9 @@ void pg_cli_init(pg_cli *cli, const char *cmd);
  * 143 (SIGTERM). SIGXFSZ is ignored so a file-size limit surfaces as a write error. */
 void pg_cli_block_signals(void);
 int pg_cli_watch_signals(pg_cli *cli);
+/* Stop and join the watcher; call before the pg_cli goes away. Afterwards SIGINT and
+ * SIGTERM stay blocked (pending) and touch nothing. */
+void pg_cli_unwatch_signals(pg_cli *cli);
 
 /* Parse argv against specs plus the common options (--json, --quiet, --verbose,
  * --threads, --help). Positional arguments go to pos (at most max_pos). Returns 0,
