@@ -31,10 +31,12 @@ static int exists(const char *path) {
     return stat(path, &st) == 0;
 }
 
-/* A child: a heap pg_cli with one staged file that exists on disk; the watcher is
- * stopped if `unwatch`, the pg_cli is poisoned and freed (what a returned stack frame
- * amounts to), then the child signals itself and waits. Exit 0 if it is still alive
- * 300 ms later. The parent checks the exit status and the staged file. */
+/* A child: a heap pg_cli with one staged file that exists on disk. If `unwatch`, the
+ * file is committed (renamed to its final name), the watcher stopped, and the pg_cli
+ * poisoned and freed (what a returned stack frame amounts to). Then the child signals
+ * itself and waits; exit 0 if it is still alive 300 ms later. The parent checks the
+ * exit status and the file: the staged name is returned in `staged`; the final name
+ * is DIR/staged-1.txt. */
 static int run_child(const char *dir, int unwatch, char *staged, size_t staged_size) {
     char name[64];
     snprintf(name, sizeof name, "staged-%d.txt", unwatch);
@@ -55,6 +57,9 @@ static int run_child(const char *dir, int unwatch, char *staged, size_t staged_s
         if (write(fds[1], tmp, strlen(tmp) + 1) < 0) _exit(5);
         close(fds[1]);
         if (unwatch) {
+            /* as run_command does: the command has committed, then the watcher stops */
+            pg_error e = {0};
+            if (pg_cli_commit(cli, &e) != PG_OK) _exit(6);
             pg_cli_unwatch_signals(cli);
             memset(cli, 0xA5, sizeof *cli);
             free(cli);
@@ -90,8 +95,11 @@ static void test_sigterm_after_unwatch(void **s) {
     char dir[1024], staged[4096];
     pg_test_scratch_dir("cli_watcher_off", dir, sizeof dir);
     assert_int_equal(run_child(dir, 1, staged, sizeof staged), 0);
+    char final[4200];
+    snprintf(final, sizeof final, "%s/staged-1.txt", dir);
     assert_true(staged[0] != '\0');
-    assert_true(exists(staged));
+    assert_false(exists(staged)); /* renamed by the commit */
+    assert_true(exists(final));   /* and nothing removed it afterwards */
 }
 
 int main(void) {
