@@ -5,8 +5,9 @@
  * /lib/x86_64-linux-gnu/libz.so.1: the watcher thread was detached and outlived the
  * pg_cli on run_command's stack, so a SIGTERM during exit made it unlink whatever the
  * dead frame's staged-file list pointed to. The contract now: after
- * pg_cli_unwatch_signals the watcher is joined, and a SIGTERM neither removes a staged
- * file nor ends the process; before it, a SIGTERM still cleans up and exits 143. */
+ * pg_cli_unwatch_signals the watcher is joined, and a SIGTERM neither removes a file
+ * nor ends the process; before it, a SIGTERM still removes the staged files and exits
+ * 143. */
 #include "pg_cli.h"
 #include "pg_test.h"
 
