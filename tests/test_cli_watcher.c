@@ -20,11 +20,13 @@
 #include <time.h>
 #include <unistd.h>
 
-static void touch(const char *path) {
+/* Runs in the forked child, so it reports failure instead of asserting: a cmocka
+ * assert there would unwind into a second copy of the test runner. */
+static int touch(const char *path) {
     FILE *f = fopen(path, "w");
-    assert_non_null(f);
+    if (!f) return -1;
     fputs("staged\n", f);
-    fclose(f);
+    return fclose(f);
 }
 
 static int exists(const char *path) {
@@ -41,7 +43,6 @@ static int exists(const char *path) {
 static int run_child(const char *dir, int unwatch, char *staged, size_t staged_size) {
     char name[64];
     snprintf(name, sizeof name, "staged-%d.txt", unwatch);
-    /* the staged path is pg_cli_output_path's: DIR/.tmp-PID-NAME, PID of the child */
     int fds[2];
     assert_int_equal(pipe(fds), 0);
     pid_t pid = fork();
@@ -54,7 +55,7 @@ static int run_child(const char *dir, int unwatch, char *staged, size_t staged_s
         if (pg_cli_watch_signals(cli) != 0) _exit(3);
         const char *tmp = pg_cli_output_path(cli, dir, name);
         if (!tmp) _exit(4);
-        touch(tmp);
+        if (touch(tmp) != 0) _exit(7);
         if (write(fds[1], tmp, strlen(tmp) + 1) < 0) _exit(5);
         close(fds[1]);
         if (unwatch) {
