@@ -23,7 +23,15 @@
  * height of its paths to a sink; inside a tile the flood gives the minimax to its
  * label's seed, and the graph composes the segments exactly. The minimal fill is
  * unique, so every owned cell comes out bit-identical to pg_pits_remove's plain fill
- * (the test compares them for 1, 2 and 4 ranks). */
+ * (the test compares them for 1, 2 and 4 ranks).
+ * With epsilon: the minimal epsilon-surface W (pg_pits_planchon2002_minimal_eps.c) is
+ * the unique solution of W(c) = max(F(c), up(min over neighbours W(n))) with F the
+ * plain fill just computed. Each round, every rank receives the ring's current values
+ * and floods its own cells from the ring and its sinks with that equation (a Dijkstra
+ * flood; ring cells are fixed sources). Round 1 starts from F <= W, each round's ring
+ * is at least the last one's and at most W, so the values only rise, stay below W and
+ * stop; when no rank's cells change, every cell satisfies the equation, whose only
+ * solution is W. The ulps change only on flats, so a few rounds suffice. */
 #include "planetgen/pg_mpi.h"
 
 #include "pg_pits_internal.h"
@@ -400,12 +408,85 @@ static int solve_and_share(dfill *d, const fedges *ev, uint32_t **labels_out, fl
     return bad || oom;
 }
 
+/* ---- epsilon: rounds of local floods to the minimal epsilon-surface ---- */
+
+typedef struct eps_ctx {
+    const dfill *d;
+    int t0, t1;
+} eps_ctx;
+
+static int eps_settable(const void *ctx, uint32_t id) {
+    const eps_ctx *e = ctx;
+    int t = tile_of(e->d, id);
+    return t >= e->t0 && t < e->t1 && !sink(e->d, id);
+}
+
+/* One round: flood this rank's cells from the ring and the sinks. Returns -1 when out
+ * of memory, else whether any owned cell changed. */
+static int eps_round(dfill *d, const eps_ctx *e, const float *floor_) {
+    pits_heap q = {0};
+    uint32_t nb[8];
+    int changed = 0;
+    float *prev = malloc(((size_t)(e->t1 - e->t0) * d->ts * d->ts + 1) * sizeof *prev);
+    if (!prev) return -1;
+    size_t k = 0;
+    for (int t = e->t0; t < e->t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                uint32_t id = tile_cell(d, t, x, y);
+                prev[k++] = d->h[id];
+                if (sink(d, id)) continue;
+                float w = INFINITY;
+                int nn = pg_pits_neighbours(d->t, id, nb);
+                for (int j = 0; j < nn; j++) /* fixed sources: sinks and the ring */
+                    if (!eps_settable(e, nb[j]))
+                        w = fminf(w, fmaxf(floor_[id], pits_up(eff(d, nb[j]))));
+                d->h[id] = w;
+                if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
+            }
+    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0};
+    int oom = q.oom || pits_meps_flood(&m, &q);
+    k = 0;
+    for (int t = e->t0; !oom && t < e->t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++)
+                changed |= memcmp(&prev[k++], &d->h[tile_cell(d, t, x, y)], sizeof(float)) != 0;
+    pits_heap_free(&q);
+    free(prev);
+    return oom ? -1 : changed;
+}
+
+static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg_error *err) {
+    double t_start = MPI_Wtime();
+    float *floor_ = malloc(d->t->ncells * sizeof *floor_); /* only owned cells are read */
+    int bad = !floor_, more = 1;
+    eps_ctx e = {d, t0, t1};
+    for (int t = t0; !bad && t < t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                uint32_t id = tile_cell(d, t, x, y);
+                floor_[id] = d->h[id];
+            }
+    while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
+        pg_status st = exchange_ring(d, err);
+        bad = st != PG_OK;
+        int r = bad ? -1 : eps_round(d, &e, floor_);
+        bad = r < 0;
+        more = pg_mpi_max_int(d->m, r > 0);
+        info->eps_rounds++;
+    }
+    free(floor_);
+    info->eps_seconds = MPI_Wtime() - t_start;
+    return bad ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (epsilon rounds)")
+               : PG_OK;
+}
+
 /* ---- the whole ---- */
 
 static pg_status check(const pg_pits_opts *o, pg_error *err) {
-    if (o->method != PG_PITS_FILL || o->epsilon || !o->has_sea_level || o->lakes || o->has_nodata)
+    if (o->method != PG_PITS_FILL || !o->has_sea_level || o->lakes || o->has_nodata)
         return pg_error_set(err, PG_ERR_BADINPUT,
-                            "pits (MPI): the distributed fill needs plain fill (no epsilon) "
+                            "pits (MPI): the distributed fill needs the fill method "
                             "with a sea level, no lakes and no no-data");
     return PG_OK;
 }
@@ -463,7 +544,7 @@ pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_
             }
     free(ev.e), free(d.label), free(labels), free(levels);
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory");
-    return PG_OK;
+    return o->epsilon ? eps_rounds(&d, t0, t1, info, err) : PG_OK;
 }
 
 #else

@@ -35,7 +35,8 @@ const char *pg_pits_method_citation(pg_pits_method m) {
     switch (m) {
     case PG_PITS_FILL:
         return "Improved Priority-Flood fill: Barnes, Lehman & Mulla (2014), Computers & "
-               "Geosciences 62:117-127";
+               "Geosciences 62:117-127; with epsilon, the minimal epsilon-surface of Planchon & "
+               "Darboux (2002), Catena 46:159-176";
     case PG_PITS_BREACH:
         return "breaching by flood order: Soille (2004), Water Resources Research 40:W12509, "
                "as in Scott & Dodgson (2021) section 3.2";
@@ -51,14 +52,24 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     switch (o->method) {
     case PG_PITS_FILL:
         /* the tiled fill's labels (< ncells + one tile) must fit in 32 bits */
-        if (!o->epsilon && t->ncells < (UINT64_C(1) << 31) &&
+        if (o->epsilon) return pits_minimal_eps_planchon2002(t, h, o, res, err);
+        if (t->ncells < (UINT64_C(1) << 31) &&
             (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096)))
             return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
         return pits_breach_soille2004(t, h, o, res, err);
-    case PG_PITS_HYBRID:
-        return pits_hybrid_lindsay2016(t, h, o, res, err);
+    case PG_PITS_HYBRID: {
+        /* with epsilon: the plain hybrid, then the minimal epsilon-surface above it,
+         * which only adds the ulps its flats and filled basins need (and makes
+         * max_length 0 exactly the fill with epsilon) */
+        pg_pits_opts plain = *o;
+        plain.epsilon = false;
+        pg_status s = pits_hybrid_lindsay2016(t, h, &plain, res, err);
+        if (s || !o->epsilon) return s;
+        pg_pits_result r2 = {0};
+        return pits_minimal_eps_planchon2002(t, h, o, &r2, err);
+    }
     }
     return pg_error_set(err, PG_ERR_BADINPUT, "pits: unknown method %d", (int)o->method);
 }

@@ -3,13 +3,15 @@
  * Source: R. Barnes, C. Lehman, D. Mulla (2014), "Priority-Flood: An optimal
  * depression-filling and watershed-labeling algorithm for digital elevation models",
  * Computers & Geosciences 62:117-127, Algorithm 2 (improved, plain FIFO for cells in
- * pits) and Algorithm 3 (the epsilon variant); as used by Scott & Dodgson 2021 §3.1.
+ * pits); as used by Scott & Dodgson 2021 §3.1. Fill WITH epsilon is not this file's
+ * Algorithm 3 but the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c):
+ * Algorithm 3's ulps follow the flood order, the minimal surface's do not.
  *
  * Idea: flood the terrain from the sinks inwards in order of height. The priority
  * queue always yields the lowest cell c on the boundary of the flooded (closed)
  * region, so c's height is the lowest level at which water from an unvisited
  * neighbour n could leave through c. If n is not higher than c, n lies in a pit: it
- * is raised to c's height (epsilon: to the next float above it) and, since every
+ * is raised to c's height and, since every
  * cell it reaches next is then at that same spill level, it goes to a plain FIFO
  * instead of the heap - the "improved" part, which removes the log factor for cells
  * inside pits.
@@ -17,12 +19,11 @@
  * Preconditions: pits_begin has marked the sinks and queued the sinks touching
  * non-sinks; no NaN heights (no-data is -inf by then).
  * Why it is correct: by induction over the pop order, every closed cell has a
- * non-ascending path to a sink through closed cells (strictly descending with
- * epsilon, because n is set to nextafter(h[c]) > h[c] and h[c] is final when c is
+ * non-ascending path to a sink through closed cells (h[c] is final when c is
  * popped). Plain fill is the minimal such surface: a cell is raised only to the
  * lowest spill height through which its region connects to a sink (Barnes et al.,
  * Theorem 1), which the exact-fill test checks against a slow iterative reference.
- * Ties pop in (height, id) order, so the epsilon result is deterministic. */
+ * Ties pop in (height, id) order, so the pop order is deterministic. */
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -35,7 +36,6 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
-    const int eps = o->epsilon;
     uint32_t nb[8];
     while (q.n || !pits_fifo_empty(&pit)) {
         uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(&q));
@@ -46,7 +46,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
             if (st[n] != PITS_OPEN) continue;
             st[n] = PITS_CLOSED;
             if (h[n] <= hc) {
-                h[n] = eps ? pits_up(hc) : hc;
+                h[n] = hc;
                 pits_fifo_push(&pit, n);
             } else {
                 pits_heap_push(&q, pits_key(h[n], n));

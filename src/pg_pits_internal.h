@@ -32,6 +32,14 @@ static inline uint32_t pits_key_id(uint64_t k) {
     return (uint32_t)k;
 }
 
+/* The height a key was made from (the inverse of pits_ord). */
+static inline float pits_key_height(uint64_t k) {
+    uint32_t o = (uint32_t)(k >> 32), u = (o & 0x80000000u) ? (o & 0x7fffffffu) : ~o;
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
 static inline float pits_up(float v) {
     return nextafterf(v, INFINITY);
 }
@@ -127,9 +135,31 @@ void pits_end(const pg_pits_topo *t, float *h, const pg_pits_opts *o, const uint
 
 pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *err);
 
-/* The three algorithms; h is modified in place. */
+/* ---- the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c) ---- */
+
+/* One Dijkstra flood for W(c) = max(floor(c), up(min over neighbours W(n))).
+ * w: the sources' values (read through their keys) and, for every cell the flood may
+ * set, a start value (+inf, or an upper bound); out: W on those cells. settable(ctx,
+ * id) says whether the flood may set a cell (not a sink, inside the region). q holds
+ * the sources' keys (height -inf for sinks). order, when not NULL, receives the cells
+ * the flood settles, in nondecreasing W. Returns nonzero when out of memory. */
+typedef struct pits_meps {
+    const pg_pits_topo *t;
+    float *w;
+    const float *floor;
+    int (*settable)(const void *ctx, uint32_t id);
+    const void *ctx;
+    uint32_t *order;
+    uint64_t norder;
+} pits_meps;
+
+int pits_meps_flood(pits_meps *m, pits_heap *q);
+
+/* The algorithms; h is modified in place. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                          pg_pits_result *res, pg_error *err);
+pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                        pg_pits_result *res, pg_error *err);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

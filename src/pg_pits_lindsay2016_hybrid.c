@@ -12,15 +12,16 @@
  * already low enough or a sink is reached (Soille's walk, as in Scott & Dodgson
  * §3.2). If that channel is at most max_length cells long and lowers no cell more
  * than max_depth below its ORIGINAL height, carve it; otherwise fill n (raise it to
- * c, epsilon: just above) and flood the rest of the pit from it with the FIFO of
- * Barnes et al. 2014, which fills the whole depression to its spill level.
- * Flats (n equal to c) need no channel: without epsilon they are left alone, with
- * epsilon they get the fill's one-ulp rise, as a channel of ulps across a wide flat
- * would be long but pointless.
+ * c) and flood the rest of the pit from it with the FIFO of Barnes et al. 2014, which
+ * fills the whole depression to its spill level. Flats (n equal to c) need no
+ * channel and are left alone. This file is the plain hybrid; with epsilon, pg_pits.c
+ * lays the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c) over its
+ * result, which gives the flats and the filled basins their ulps of slope and
+ * changes nothing else (the hybrid's surface already drains without ascending).
  *
  * Preconditions: pits_begin seeded the queue; heights are not NaN.
  * Why it is correct: every closed cell has a path to a sink through its flow parent
- * F that never ascends (strictly descends with epsilon): a carved channel keeps the
+ * F that never ascends: a carved channel keeps the
  * invariant because every lowered cell is put just below its predecessor on the
  * path, a filled cell is put at/above its parent, and cells whose parents are lowered
  * only gain slope. The depth test uses the original heights, so no cell ever ends
@@ -38,12 +39,11 @@ typedef struct hybrid {
     uint32_t *parent;
     uint8_t *filled; /* 1: raised by the fill (popped from the FIFO) */
     double max_depth, max_length;
-    int eps;
     uint64_t breaches, fills;
 } hybrid;
 
 static int low_enough(const hybrid *s, uint32_t cur, float target) {
-    return s->st[cur] != PITS_CLOSED || (s->eps ? s->h[cur] < target : s->h[cur] <= target);
+    return s->st[cur] != PITS_CLOSED || s->h[cur] <= target;
 }
 
 /* Can the channel from c down to below h[n] be carved within the limits? */
@@ -69,13 +69,10 @@ static void visit(hybrid *s, uint32_t c, int c_filled, uint32_t n, pits_heap *q,
     float hc = s->st[c] == PITS_CLOSED ? s->h[c] : -INFINITY, hn = s->h[n];
     s->st[n] = PITS_CLOSED;
     s->parent[n] = c;
-    if (hn > hc || (!s->eps && hn == hc && !c_filled)) {
+    if (hn > hc || (hn == hc && !c_filled)) {
         pits_heap_push(q, pits_key(hn, n));
         return;
     }
-    /* a pit is lower than c was before any epsilon rise: the ulps given to a flat
-     * must not make the next flat cell look like a pit (that would carve channels
-     * of ulps, one walk per flat cell) */
     int in_pit = hn < fminf(hc, s->orig[c]);
     if (in_pit && !c_filled && channel_fits(s, c, hn)) {
         carve(s, c, hn);
@@ -84,9 +81,8 @@ static void visit(hybrid *s, uint32_t c, int c_filled, uint32_t n, pits_heap *q,
         return;
     }
     if (in_pit && !c_filled) s->fills++;
-    /* a pit cell starts (or continues) a fill; an epsilon flat cell only gets its
-     * ulp of slope and stays a candidate for breaching further on */
-    s->h[n] = s->eps ? pits_up(hc) : hc;
+    /* a pit cell starts (or continues) a fill */
+    s->h[n] = hc;
     s->filled[n] = (uint8_t)(c_filled || in_pit);
     pits_fifo_push(pit, n);
 }
@@ -109,7 +105,7 @@ static int run(hybrid *s, pits_heap *q) {
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                   pg_pits_result *res, pg_error *err) {
     pits_heap q = {0};
-    hybrid s = {t, h, NULL, NULL, NULL, NULL, o->max_depth, o->max_length, o->epsilon, 0, 0};
+    hybrid s = {t, h, NULL, NULL, NULL, NULL, o->max_depth, o->max_length, 0, 0};
     uint64_t nsinks = 0;
     pg_status st = pits_begin(t, h, o, &s.st, &q, &nsinks, err);
     if (st) return st;

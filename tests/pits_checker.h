@@ -135,10 +135,12 @@ static inline size_t chk_undrained(const chk_graph *g, const float *h, const uin
     return bad;
 }
 
-/* The minimal fill by brute force (Planchon & Darboux 2001 style iteration):
+/* The minimal fill by brute force (Planchon & Darboux 2002 style iteration):
  * W = -inf on sinks (outlets take water at any height), +inf elsewhere; repeat
- * W(c) = max(h(c), min over nbrs W(n)) until nothing changes. */
-static inline float *chk_minimal_fill(const chk_graph *g, const float *h, const uint8_t *sink) {
+ * W(c) = max(h(c), min over nbrs W(n)) until nothing changes; with eps, the min is
+ * raised by one ulp first (their epsilon: the minimal surface with strict descent). */
+static inline float *chk_minimal_fill_eps(const chk_graph *g, const float *h, const uint8_t *sink,
+                                          int eps) {
     float *W = malloc(sizeof(float) * g->n);
     for (size_t i = 0; i < g->n; i++)
         W[i] = sink[i] ? -INFINITY : INFINITY; /* outlets */
@@ -149,7 +151,7 @@ static inline float *chk_minimal_fill(const chk_graph *g, const float *h, const 
             float m = INFINITY;
             for (int j = 0; j < g->cnt[c]; j++)
                 m = fminf(m, W[g->nb[c * 8 + j]]);
-            float v = fmaxf(h[c], m);
+            float v = fmaxf(h[c], eps ? nextafterf(m, INFINITY) : m);
             if (v < W[c]) {
                 W[c] = v;
                 changed = 1;
@@ -159,6 +161,10 @@ static inline float *chk_minimal_fill(const chk_graph *g, const float *h, const 
     for (size_t i = 0; i < g->n; i++)
         if (sink[i]) W[i] = h[i];
     return W;
+}
+
+static inline float *chk_minimal_fill(const chk_graph *g, const float *h, const uint8_t *sink) {
+    return chk_minimal_fill_eps(g, h, sink, 0);
 }
 
 #endif

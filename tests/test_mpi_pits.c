@@ -1,9 +1,11 @@
 /* test_mpi_pits.c - the distributed Barnes (2016) depression fill (pg_mpi_pits_fill)
- * gives, on every rank's tiles, exactly the serial plain fill of pg_pits_remove, for 1,
- * 2 and 4 ranks and tiles of several sizes, on a cube-sphere DEM full of pits.
+ * gives, on every rank's tiles, exactly the serial fill of pg_pits_remove, for 1, 2
+ * and 4 ranks and tiles of several sizes, on a cube-sphere DEM full of pits: the plain
+ * fill, and with epsilon the minimal epsilon-surface (reached in rounds of ring
+ * exchanges, which must take more than one round on these DEMs).
  *
  * The test program is its own MPI worker: the cmocka tests run
- * `mpirun -np N THIS --worker n T seed`; each rank builds the same DEM, fills it both
+ * `mpirun -np N THIS --worker n T seed eps`; each rank builds the same DEM, fills it both
  * ways and counts differing cells in its tiles; rank 0 prints the totals and the worker
  * exits 0 only when nothing differs and the fill raised cells (so the DEM had pits).
  * Under ASan the workers run without LeakSanitizer, as in test_mpi_generate.c: OpenMPI
@@ -31,7 +33,7 @@ static float dem(uint32_t id, uint32_t n, uint32_t seed) {
     return (float)(s + (double)(z % 1000) * 0.4);
 }
 
-static int worker(uint32_t n, int T, uint32_t seed) {
+static int worker(uint32_t n, int T, uint32_t seed, int eps) {
     pg_mpi *m = NULL;
     pg_error err = {0};
     if (pg_mpi_init(&m, &err)) {
@@ -46,7 +48,7 @@ static int worker(uint32_t n, int T, uint32_t seed) {
     pg_pits_opts o;
     pg_pits_opts_default(&o);
     o.method = PG_PITS_FILL;
-    o.epsilon = false;
+    o.epsilon = eps;
     o.has_sea_level = true;
     o.sea_level = 0;
     pg_mpi_pits_info info = {0};
@@ -70,21 +72,22 @@ static int worker(uint32_t n, int T, uint32_t seed) {
     raised = pg_mpi_sum_double(m, raised);
     double labels = info.labels;
     if (me == 0)
-        printf("ranks %d tiles %d: differing cells %.0f, raised cells %.0f, labels %.0f\n", P, nt,
-               diff, raised, labels);
+        printf("ranks %d tiles %d eps %d: differing cells %.0f, raised cells %.0f, labels %.0f, "
+               "epsilon rounds %d\n",
+               P, nt, eps, diff, raised, labels, info.eps_rounds);
     free(h), free(ref);
     pg_mpi_finalize(m);
     return rc ? 2 : (diff == 0 && raised > 0 ? 0 : 1);
 }
 
-static int run_workers(int np, uint32_t n, int T, uint32_t seed) {
+static int run_workers(int np, uint32_t n, int T, uint32_t seed, int eps) {
     char cmd[4096], outp[256];
     snprintf(outp, sizeof outp, "/tmp/pg_mpi_pits.%d", (int)getpid());
     snprintf(cmd, sizeof cmd,
              "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 mpirun --oversubscribe -np %d -x "
-             "OMP_NUM_THREADS=1 '%s' --worker %u %d %u >%s "
+             "OMP_NUM_THREADS=1 '%s' --worker %u %d %u %d >%s "
              "2>&1 </dev/null",
-             np, self, n, T, seed, outp);
+             np, self, n, T, seed, eps, outp);
     int st = system(cmd);
     FILE *f = fopen(outp, "r");
     size_t k = f ? fread(out, 1, sizeof out - 1, f) : 0;
@@ -94,27 +97,35 @@ static int run_workers(int np, uint32_t n, int T, uint32_t seed) {
     return st == -1 || !WIFEXITED(st) ? -1 : WEXITSTATUS(st);
 }
 
-static void expect_same(int np, uint32_t n, int T, uint32_t seed) {
-    int rc = run_workers(np, n, T, seed);
-    if (rc != 0 || !strstr(out, "differing cells 0"))
-        fail_msg("mpirun -np %d, n %u, T %d: exit %d: %s", np, n, T, rc, out);
+/* min_rounds 3: round 2 changed cells (ring values from round 1 mattered), round 3
+ * confirmed; one round alone would have left those cells wrong. */
+static void expect_same(int np, uint32_t n, int T, uint32_t seed, int min_rounds) {
+    for (int eps = 0; eps < 2; eps++) {
+        int rc = run_workers(np, n, T, seed, eps);
+        if (rc != 0 || !strstr(out, "differing cells 0"))
+            fail_msg("mpirun -np %d, n %u, T %d, eps %d: exit %d: %s", np, n, T, eps, rc, out);
+        print_message("%s", out);
+        const char *r = strstr(out, "epsilon rounds ");
+        if (eps && (!r || atoi(r + 15) < min_rounds))
+            fail_msg("mpirun -np %d: expected %d epsilon rounds at least: %s", np, min_rounds, out);
+    }
 }
 
 static void test_one_rank(void **state) {
     (void)state;
-    expect_same(1, 48, 3, 1);
+    expect_same(1, 48, 3, 1, 1);
 }
 
 static void test_two_ranks(void **state) {
     (void)state;
-    expect_same(2, 48, 3, 2);
-    expect_same(2, 64, 1, 3); /* whole faces as tiles: only seam pairs cross */
+    expect_same(2, 48, 3, 2, 1);
+    expect_same(2, 64, 1, 3, 1); /* whole faces as tiles: only seam pairs cross */
 }
 
 static void test_four_ranks(void **state) {
     (void)state;
-    expect_same(4, 64, 4, 4);
-    expect_same(4, 32, 8, 5); /* tiles of 4 x 4 texels: most cells on a perimeter */
+    expect_same(4, 64, 4, 4, 3);
+    expect_same(4, 32, 8, 5, 3); /* tiles of 4 x 4 texels: most cells on a perimeter */
 }
 
 /* The preconditions are refused, not silently broken. */
@@ -125,11 +136,10 @@ static void test_preconditions(void **state) {
     pg_error err = {0};
     float h[6 * 4 * 4] = {0};
     pg_mpi_pits_info info = {0};
-    o.method = PG_PITS_FILL;
-    o.epsilon = true;
+    o.method = PG_PITS_BREACH;
     o.has_sea_level = true;
     assert_int_equal(pg_mpi_pits_fill(NULL, 1, 4, h, &o, &info, &err), PG_ERR_BADINPUT);
-    assert_non_null(strstr(err.msg, "plain fill"));
+    assert_non_null(strstr(err.msg, "fill method"));
 }
 
 static int setup(void **state) {
@@ -140,8 +150,9 @@ static int setup(void **state) {
 }
 
 int main(int argc, char **argv) {
-    if (argc == 5 && !strcmp(argv[1], "--worker"))
-        return worker((uint32_t)atoi(argv[2]), atoi(argv[3]), (uint32_t)atoi(argv[4]));
+    if (argc == 6 && !strcmp(argv[1], "--worker"))
+        return worker((uint32_t)atoi(argv[2]), atoi(argv[3]), (uint32_t)atoi(argv[4]),
+                      atoi(argv[5]));
     self = argv[0];
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_preconditions),

@@ -1,5 +1,6 @@
 /* test_pits_grid.c - pit removal on flat 8-connected grids: every method leaves no
- * pits (independent checker), plain fill equals the brute-force minimal fill, fill
+ * pits (independent checker), plain fill equals the brute-force minimal fill and fill
+ * with epsilon the brute-force minimal epsilon-surface (bit for bit), fill
  * never lowers and breach never raises, hybrid honours its limits, results do not
  * depend on the thread count, depressions are counted, bad input is refused. */
 #include "pg_test.h"
@@ -96,6 +97,7 @@ static void test_all_methods_drain(void **state) {
  * fill bit for bit. */
 static void test_exact_fill(void **state) {
     (void)state;
+    size_t raised_by_eps = 0;
     for (uint32_t seed = 100; seed < 160; seed++) {
         int w = 1 + (int)(hash32(seed, 1) % 30), h = 1 + (int)(hash32(seed, 2) % 30);
         float *dem = random_dem(seed, w, h);
@@ -125,6 +127,21 @@ static void test_exact_fill(void **state) {
             for (size_t i = 0; i < g.n; i++)
                 assert_true(out[i] == ref[i]);
         }
+        /* with epsilon: bit for bit Planchon & Darboux's minimal epsilon-surface, which
+         * lies between the minimal fill and every other epsilon-surface */
+        float *eref = chk_minimal_fill_eps(&g, dem, sk, 1);
+        memcpy(out, dem, sizeof(float) * g.n);
+        o.epsilon = true;
+        assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+        size_t differ = 0, above = 0;
+        for (size_t i = 0; i < g.n; i++) {
+            differ += memcmp(&out[i], &eref[i], sizeof(float)) != 0;
+            above += eref[i] > ref[i];
+        }
+        if (differ)
+            fail_msg("seed %u: %zu cells differ from the minimal epsilon-surface", seed, differ);
+        raised_by_eps += above;
+        free(eref);
         free(ref);
         free(sk);
         free(out);
@@ -132,6 +149,7 @@ static void test_exact_fill(void **state) {
         chk_graph_free(&g);
         free(dem);
     }
+    assert_true(raised_by_eps > 0); /* the grids had flats for the ulps to slope */
 }
 
 /* Hybrid with max_length 0 can carve nothing: it is exactly the fill. With a depth

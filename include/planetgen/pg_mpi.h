@@ -92,15 +92,20 @@ const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m);
  * their perimeters, rank 0 solves it, every rank applies it. h holds the planet's 6 n^2
  * heights (pg_pits cube ids) in this rank's address space, of which only the rank's
  * tiles (n / tiles texels square, owned as pg_mpi_tile_owner says) need be valid; they
- * come out bit-identical to pg_pits_remove's plain fill, and a one-cell ring around them
- * is overwritten with the neighbours' heights. Preconditions (BADINPUT otherwise):
- * o->method fill without epsilon, a sea level, no lakes, no no-data, at least one cell
- * at or below the sea level. Collective. */
+ * come out bit-identical to pg_pits_remove's fill, and a one-cell ring around them
+ * is overwritten with the neighbours' heights. With o->epsilon the plain fill is then
+ * lifted to the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c) in rounds:
+ * every rank floods its tiles from the current ring, until no rank's cells change; the
+ * surface is the unique solution of its equation, so it is the serial one bit for bit.
+ * Preconditions (BADINPUT otherwise): o->method fill, a sea level, no lakes, no
+ * no-data, at least one cell at or below the sea level. Collective. */
 typedef struct pg_mpi_pits_info {
     double flood_seconds, solve_seconds; /* steps 1-2 on this rank; 3-4 (rank 0 solving) */
     double edges;                        /* spill-graph edges this rank sent */
     double labels;                       /* labels of the whole graph */
-    uint64_t raised;                     /* cells of this rank raised */
+    uint64_t raised;                     /* cells of this rank raised (by the plain fill) */
+    int eps_rounds;                      /* epsilon: ring exchanges until nothing changed */
+    double eps_seconds;                  /* epsilon: time of those rounds on this rank */
 } pg_mpi_pits_info;
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                            pg_mpi_pits_info *info, pg_error *err);

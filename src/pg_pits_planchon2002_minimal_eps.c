@@ -1,0 +1,154 @@
+/* pg_pits_planchon2002_minimal_eps.c - depression filling with a slope: the minimal
+ * epsilon-surface, computed exactly in one flood.
+ *
+ * Source: O. Planchon & F. Darboux (2002), "A fast, simple and versatile algorithm to
+ * fill the depressions of digital elevation models", Catena 46(2-3):159-176. Their
+ * result is the lowest surface W above h on which every non-sink cell has a strictly
+ * lower neighbour, with epsilon = one ulp (up = nextafterf towards +inf):
+ *     W(c) = max(h(c), up(min over neighbours n of W(n)))   for every non-sink c,  (1)
+ * sinks keep their height and take water at any height (they count as -inf in the
+ * min). Planchon & Darboux reach it by sweeping (1) down from +inf until nothing
+ * changes; this file computes it in one Dijkstra flood: W(c) is the least, over paths
+ * from c to a sink, of the cost built backwards from the sink by w -> max(h, up(w)),
+ * and that step never lowers w and never decreases when w grows, so cells can be
+ * settled in nondecreasing W exactly as in Dijkstra's algorithm.
+ *
+ * Why this and not Barnes et al. 2014's epsilon variant: (1) has exactly ONE solution.
+ * If W1 != W2 both solve it, take a cell c where they differ with the smallest
+ * min(W1(c), W2(c)), say W1(c) < W2(c); c is not a sink; c's lowest neighbour n under
+ * W1 has W1(n) < W1(c), so W2(n) = W1(n) by the choice of c, and (1) for W2 gives
+ * W2(c) <= max(h(c), up(W2(n))) = W1(c): a contradiction. So any method that reaches a
+ * fixed point of (1) produces the same bits - this flood on one process, or ranks
+ * that flood their own tiles and exchange the ring around them until nothing changes
+ * (pg_mpi_pits_barnes2016.c). Barnes's epsilon flood also drains every cell, but its
+ * FIFO settles a flat from the first rim cell it reaches, so its ulps follow the flood
+ * order: a tile decomposition cannot reproduce them.
+ * The same argument shows that W does not change when h is replaced by any surface F
+ * with h <= F <= W, e.g. the minimal (plain) fill: the distributed version uses that.
+ *
+ * Preconditions: pits_begin marked the sinks and queued those touching non-sinks.
+ * Speed: cells that already drain strictly keep their height and are closed by a
+ * linear search first; only flats and depressions go through the flood.
+ * Why it is correct: Dijkstra's invariant (a popped cell's value is final) holds for
+ * monotone path costs that never decrease along a path; (1) is that cost. */
+#include "pg_pits_internal.h"
+
+#include <stdlib.h>
+
+/* The next cell to settle: the smaller key of the FIFO's front and the heap's top. */
+static uint64_t next_key(const pits_meps *m, pits_heap *q, pits_fifo *f) {
+    if (!pits_fifo_empty(f)) {
+        uint32_t id = f->a[f->head];
+        uint64_t k = pits_key(m->w[id], id);
+        if (!q->n || k <= q->a[0]) {
+            pits_fifo_pop(f);
+            return k;
+        }
+    }
+    return pits_heap_pop(q);
+}
+
+/* Cells set to exactly up(w) of the cell being settled go to a FIFO instead of the
+ * heap (Barnes et al. 2014's "improved" trick, which makes flats linear): the settled
+ * values never decrease, so the FIFO is sorted, and no later cell can offer less than
+ * up(w), so its cells' values are final. Merging it with the heap by key keeps the
+ * Dijkstra order. */
+int pits_meps_flood(pits_meps *m, pits_heap *q) {
+    pits_fifo fifo = {0};
+    uint32_t nb[8];
+    while (q->n || !pits_fifo_empty(&fifo)) {
+        uint64_t key = next_key(m, q, &fifo);
+        uint32_t c = pits_key_id(key);
+        if (m->settable(m->ctx, c)) {
+            if (key != pits_key(m->w[c], c)) continue; /* superseded by a lower value */
+            if (m->order) m->order[m->norder++] = c;
+        }
+        float up = pits_up(pits_key_height(key)); /* a sink's -inf gives -FLT_MAX */
+        int k = pg_pits_neighbours(m->t, c, nb);
+        for (int j = 0; j < k; j++) {
+            uint32_t n = nb[j];
+            if (!m->settable(m->ctx, n)) continue;
+            float cand = fmaxf(m->floor[n], up);
+            if (cand < m->w[n]) {
+                m->w[n] = cand;
+                if (cand == up)
+                    pits_fifo_push(&fifo, n);
+                else
+                    pits_heap_push(q, pits_key(cand, n));
+            }
+        }
+        if (q->oom || fifo.oom) break;
+    }
+    int oom = q->oom || fifo.oom;
+    pits_fifo_free(&fifo);
+    return oom ? -1 : 0;
+}
+
+static int open_cell(const void *ctx, uint32_t id) {
+    return ((const uint8_t *)ctx)[id] == PITS_OPEN;
+}
+
+/* Step 1, linear: a cell with a strictly descending path to a sink keeps its height
+ * (W(c) = h(c) by induction along the path, since up(h(next)) <= h(c)). A search
+ * from the sinks up strictly rising steps closes those cells - most of a DEM. */
+static int close_drained(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q) {
+    pits_fifo f = {0};
+    uint32_t nb[8];
+    for (size_t i = 0; i < q->n; i++)
+        pits_fifo_push(&f, pits_key_id(q->a[i]));
+    while (!pits_fifo_empty(&f) && !f.oom) {
+        uint32_t d = pits_fifo_pop(&f);
+        float hd = st[d] == PITS_CLOSED ? h[d] : -INFINITY;
+        int k = pg_pits_neighbours(t, d, nb);
+        for (int j = 0; j < k; j++)
+            if (st[nb[j]] == PITS_OPEN && h[nb[j]] > hd) {
+                st[nb[j]] = PITS_CLOSED;
+                pits_fifo_push(&f, nb[j]);
+            }
+    }
+    int oom = f.oom;
+    pits_fifo_free(&f);
+    return oom;
+}
+
+/* Step 2: the flood over the rest (flats and depressions), seeded from its border. */
+static int flood_rest(const pg_pits_topo *t, float *h, const uint8_t *st, float *w) {
+    pits_heap q = {0};
+    uint32_t nb[8];
+    for (uint64_t i = 0; i < t->ncells; i++) {
+        w[i] = h[i];
+        if (st[i] != PITS_OPEN) continue;
+        w[i] = INFINITY;
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
+        for (int j = 0; j < k; j++)
+            if (st[nb[j]] != PITS_OPEN) {
+                float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
+                w[i] = fminf(w[i], fmaxf(h[i], pits_up(v)));
+            }
+        if (w[i] < INFINITY) pits_heap_push(&q, pits_key(w[i], (uint32_t)i));
+    }
+    pits_meps m = {t, w, h, open_cell, st, NULL, 0};
+    int oom = q.oom || pits_meps_flood(&m, &q);
+    pits_heap_free(&q);
+    for (uint64_t i = 0; !oom && i < t->ncells; i++)
+        if (st[i] == PITS_OPEN) h[i] = w[i];
+    return oom;
+}
+
+pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                        pg_pits_result *res, pg_error *err) {
+    pits_heap q = {0};
+    uint8_t *st = NULL;
+    uint64_t nsinks = 0;
+    pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
+    if (s) return s;
+    float *w = malloc(t->ncells * sizeof *w);
+    int oom = !w || close_drained(t, h, st, &q) || flood_rest(t, h, st, w);
+    pits_heap_free(&q);
+    pits_end(t, h, o, st);
+    free(st);
+    free(w);
+    if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory in the flood queues");
+    if (res) res->sinks = nsinks;
+    return PG_OK;
+}
