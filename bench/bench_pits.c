@@ -67,13 +67,15 @@ static double cpu_seconds(void) {
 typedef struct run {
     const char *name;
     pg_pits_method m;
-    bool eps;
+    bool eps, descent;
 } run;
 
-static const run RUNS[] = {{"fill (plain)", PG_PITS_FILL, false},
-                           {"fill (eps)", PG_PITS_FILL, true},
-                           {"breach (eps)", PG_PITS_BREACH, true},
-                           {"hybrid (eps, 50 m, 100 cells)", PG_PITS_HYBRID, true}};
+static const run RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
+                           {"fill (eps)", PG_PITS_FILL, true, false},
+                           {"breach (eps)", PG_PITS_BREACH, true, false},
+                           {"hybrid (eps, 50 m, 100 cells)", PG_PITS_HYBRID, true, false},
+                           {"breach (eps, descent tree)", PG_PITS_BREACH, true, true},
+                           {"hybrid (eps, descent tree)", PG_PITS_HYBRID, true, true}};
 
 static void count(const char *what, const pg_pits_topo *t, const float *h, const pg_pits_opts *o) {
     pg_pits_stats st;
@@ -103,6 +105,7 @@ static void bench(const char *label, const pg_pits_topo *t, const float *dem, do
         if (only && strncmp(RUNS[r].name, only, strlen(only))) continue;
         o.method = RUNS[r].m;
         o.epsilon = RUNS[r].eps;
+        o.descent = RUNS[r].descent;
         o.max_depth = 50;
         o.max_length = 100;
         double sec[2], cpu[2];

@@ -444,7 +444,7 @@ static int eps_round(dfill *d, const eps_ctx *e, const float *floor_) {
                 d->h[id] = w;
                 if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
             }
-    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0};
+    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
     int oom = q.oom || pits_meps_flood(&m, &q);
     k = 0;
     for (int t = e->t0; !oom && t < e->t1; t++)

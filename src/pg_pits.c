@@ -58,18 +58,11 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
             return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
+        if (o->descent) return pits_breach_descent(t, h, o, res, err);
         return pits_breach_soille2004(t, h, o, res, err);
-    case PG_PITS_HYBRID: {
-        /* with epsilon: the plain hybrid, then the minimal epsilon-surface above it,
-         * which only adds the ulps its flats and filled basins need (and makes
-         * max_length 0 exactly the fill with epsilon) */
-        pg_pits_opts plain = *o;
-        plain.epsilon = false;
-        pg_status s = pits_hybrid_lindsay2016(t, h, &plain, res, err);
-        if (s || !o->epsilon) return s;
-        pg_pits_result r2 = {0};
-        return pits_minimal_eps_planchon2002(t, h, o, &r2, err);
-    }
+    case PG_PITS_HYBRID:
+        if (o->descent) return pits_breach_descent(t, h, o, res, err);
+        return pits_hybrid_lindsay2016(t, h, o, res, err);
     }
     return pg_error_set(err, PG_ERR_BADINPUT, "pits: unknown method %d", (int)o->method);
 }

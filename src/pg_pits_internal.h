@@ -151,15 +151,51 @@ typedef struct pits_meps {
     const void *ctx;
     uint32_t *order;
     uint64_t norder;
+    int plain; /* up(w) = w: the minimal (plain) fill instead */
 } pits_meps;
 
 int pits_meps_flood(pits_meps *m, pits_heap *q);
+
+/* The minimal epsilon-surface of h (eps = 0: the minimal fill) into w, h unchanged:
+ * st and q as pits_begin left them (sinks marked, the sinks touching non-sinks
+ * queued; pits_seed queues them again); on return every non-sink cell is
+ * PITS_CLOSED. Returns nonzero when out of memory. */
+int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
+                      float *w, int eps);
+/* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
+void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
+
+/* ---- the descent tree's tokens (pg_pits_descent_breach.c) ---- */
+
+/* A cell of height hx receives the token (v, len): returns 1 when the cell is carved
+ * to *to (<= hx) and passes (*pass, *plen) to its parent, 0 when the token stops
+ * there (lower ground, a limit) or there is none (v = +inf). */
+static inline int pits_token(float hx, float v, uint32_t len, double max_depth, double max_length,
+                             float *to, float *pass, uint32_t *plen) {
+    if (!(v <= hx)) return 0;
+    uint32_t l = v < hx ? len + 1 : len;
+    if ((double)hx - (double)v > max_depth || (double)l > max_length) return 0;
+    *to = v;
+    *pass = pits_down(v);
+    *plen = l;
+    return 1;
+}
+
+/* Where tokens meet, the lowest wins (ties: the shorter channel). */
+static inline void pits_token_merge(float *v, uint32_t *len, float pass, uint32_t plen) {
+    if (pass < *v || (pass == *v && plen < *len)) {
+        *v = pass;
+        *len = plen;
+    }
+}
 
 /* The algorithms; h is modified in place. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                          pg_pits_result *res, pg_error *err);
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
+pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                              pg_pits_result *res, pg_error *err);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

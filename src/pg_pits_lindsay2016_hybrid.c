@@ -14,10 +14,10 @@
  * than max_depth below its ORIGINAL height, carve it; otherwise fill n (raise it to
  * c) and flood the rest of the pit from it with the FIFO of Barnes et al. 2014, which
  * fills the whole depression to its spill level. Flats (n equal to c) need no
- * channel and are left alone. This file is the plain hybrid; with epsilon, pg_pits.c
- * lays the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c) over its
- * result, which gives the flats and the filled basins their ulps of slope and
- * changes nothing else (the hybrid's surface already drains without ascending).
+ * channel and are left alone. With epsilon, the minimal epsilon-surface
+ * (pg_pits_planchon2002_minimal_eps.c) is then laid over the result, with the same
+ * sinks: it gives the flats and the filled basins their ulps of slope and changes
+ * nothing that already drains strictly.
  *
  * Preconditions: pits_begin seeded the queue; heights are not NaN.
  * Why it is correct: every closed cell has a path to a sink through its flow parent
@@ -102,6 +102,19 @@ static int run(hybrid *s, pits_heap *q) {
     return oom ? -1 : 0;
 }
 
+/* Epsilon: the minimal epsilon-surface over the result, with the same sinks (orig
+ * is free again and holds it). */
+static int slope(hybrid *s, pits_heap *q, float *w) {
+    for (uint64_t i = 0; i < s->t->ncells; i++)
+        if (s->st[i] == PITS_CLOSED) s->st[i] = PITS_OPEN;
+    pits_heap_free(q);
+    pits_seed(s->t, s->st, q);
+    if (q->oom || pits_meps_compute(s->t, s->h, s->st, q, w, 1)) return -1;
+    for (uint64_t i = 0; i < s->t->ncells; i++)
+        if (s->st[i] == PITS_CLOSED) s->h[i] = w[i];
+    return 0;
+}
+
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                   pg_pits_result *res, pg_error *err) {
     pits_heap q = {0};
@@ -114,7 +127,7 @@ pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits
     s.filled = calloc(t->ncells, 1);
     if (orig) memcpy(orig, h, t->ncells * sizeof *orig);
     s.orig = orig;
-    if (!orig || !s.parent || !s.filled || run(&s, &q)) {
+    if (!orig || !s.parent || !s.filled || run(&s, &q) || (o->epsilon && slope(&s, &q, orig))) {
         st = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for hybrid on %llu cells",
                           (unsigned long long)t->ncells);
     } else if (res) {

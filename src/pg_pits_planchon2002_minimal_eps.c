@@ -63,7 +63,7 @@ int pits_meps_flood(pits_meps *m, pits_heap *q) {
             if (key != pits_key(m->w[c], c)) continue; /* superseded by a lower value */
             if (m->order) m->order[m->norder++] = c;
         }
-        float up = pits_up(pits_key_height(key)); /* a sink's -inf gives -FLT_MAX */
+        float hk = pits_key_height(key), up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
         int k = pg_pits_neighbours(m->t, c, nb);
         for (int j = 0; j < k; j++) {
             uint32_t n = nb[j];
@@ -112,7 +112,7 @@ static int close_drained(const pg_pits_topo *t, const float *h, uint8_t *st, con
 }
 
 /* Step 2: the flood over the rest (flats and depressions), seeded from its border. */
-static int flood_rest(const pg_pits_topo *t, float *h, const uint8_t *st, float *w) {
+static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, float *w, int eps) {
     pits_heap q = {0};
     uint32_t nb[8];
     for (uint64_t i = 0; i < t->ncells; i++) {
@@ -123,16 +123,22 @@ static int flood_rest(const pg_pits_topo *t, float *h, const uint8_t *st, float 
         for (int j = 0; j < k; j++)
             if (st[nb[j]] != PITS_OPEN) {
                 float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
-                w[i] = fminf(w[i], fmaxf(h[i], pits_up(v)));
+                w[i] = fminf(w[i], fmaxf(h[i], eps ? pits_up(v) : v));
             }
         if (w[i] < INFINITY) pits_heap_push(&q, pits_key(w[i], (uint32_t)i));
     }
-    pits_meps m = {t, w, h, open_cell, st, NULL, 0};
+    pits_meps m = {t, w, h, open_cell, st, NULL, 0, !eps};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
-    for (uint64_t i = 0; !oom && i < t->ncells; i++)
-        if (st[i] == PITS_OPEN) h[i] = w[i];
     return oom;
+}
+
+int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
+                      float *w, int eps) {
+    if (close_drained(t, h, st, q) || flood_rest(t, h, st, w, eps)) return -1;
+    for (uint64_t i = 0; i < t->ncells; i++)
+        if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
+    return 0;
 }
 
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
@@ -143,7 +149,9 @@ pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const p
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
     float *w = malloc(t->ncells * sizeof *w);
-    int oom = !w || close_drained(t, h, st, &q) || flood_rest(t, h, st, w);
+    int oom = !w || pits_meps_compute(t, h, st, &q, w, 1);
+    for (uint64_t i = 0; !oom && i < t->ncells; i++)
+        if (st[i] == PITS_CLOSED) h[i] = w[i];
     pits_heap_free(&q);
     pits_end(t, h, o, st);
     free(st);

@@ -142,7 +142,7 @@ static void lowest_cell_sink(const pg_pits_topo *t, const float *h, uint8_t *st)
 }
 
 /* Queue every sink with a non-sink neighbour, in id order, then heapify. */
-static void seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q) {
+void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q) {
     uint32_t nb[8];
     for (uint64_t i = 0; i < t->ncells; i++) {
         if (st[i] == PITS_OPEN) continue;
@@ -176,7 +176,7 @@ pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uin
         lowest_cell_sink(t, h, st);
         *nsinks = 1;
     }
-    if (q) seed(t, st, q);
+    if (q) pits_seed(t, st, q);
     if (q && q->oom) {
         free(st);
         pits_heap_free(q);

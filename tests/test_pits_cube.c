@@ -91,11 +91,14 @@ static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, in
     uint8_t *sk = chk_sinks(dem, g.n, has_sea, 0, NULL, 0, 0, 0);
     assert_true(chk_undrained(&g, dem, sk, 0) > 0);
     for (int m = 0; m < 3; m++)
-        for (int eps = 0; eps < 2; eps++) {
+        for (int k = 0; k < 4; k++) { /* epsilon or not; flood tree or descent tree */
+            int eps = k % 2;
+            if (k >= 2 && m == PG_PITS_FILL) continue;
             float *h = malloc(sizeof(float) * g.n);
             memcpy(h, dem, sizeof(float) * g.n);
             o.method = (pg_pits_method)m;
             o.epsilon = eps;
+            o.descent = k >= 2;
             o.max_depth = 200;
             o.max_length = 3;
             pg_pits_result r;

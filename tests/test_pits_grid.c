@@ -35,12 +35,14 @@ static float *random_dem(uint32_t seed, int w, int h) {
 
 typedef struct variant {
     pg_pits_method m;
-    bool eps;
+    bool eps, descent;
 } variant;
 
-static const variant VARIANTS[] = {{PG_PITS_FILL, false},   {PG_PITS_FILL, true},
-                                   {PG_PITS_BREACH, false}, {PG_PITS_BREACH, true},
-                                   {PG_PITS_HYBRID, false}, {PG_PITS_HYBRID, true}};
+static const variant VARIANTS[] = {{PG_PITS_FILL, false, false},   {PG_PITS_FILL, true, false},
+                                   {PG_PITS_BREACH, false, false}, {PG_PITS_BREACH, true, false},
+                                   {PG_PITS_HYBRID, false, false}, {PG_PITS_HYBRID, true, false},
+                                   {PG_PITS_BREACH, false, true},  {PG_PITS_BREACH, true, true},
+                                   {PG_PITS_HYBRID, false, true},  {PG_PITS_HYBRID, true, true}};
 
 static void set_sinks(pg_pits_opts *o, uint32_t seed) {
     o->has_sea_level = seed % 4 != 1;
@@ -62,6 +64,7 @@ static void test_all_methods_drain(void **state) {
             pg_pits_opts_default(&o);
             o.method = VARIANTS[v].m;
             o.epsilon = VARIANTS[v].eps;
+            o.descent = VARIANTS[v].descent;
             o.max_depth = 6;
             o.max_length = 5;
             set_sinks(&o, seed);
@@ -153,7 +156,7 @@ static void test_exact_fill(void **state) {
 }
 
 /* Hybrid with max_length 0 can carve nothing: it is exactly the fill. With a depth
- * limit, no cell ends deeper than the limit below its start. */
+ * limit, no cell ends deeper than the limit below its start. Both trees. */
 static void test_hybrid_limits(void **state) {
     (void)state;
     for (uint32_t seed = 200; seed < 230; seed++) {
@@ -161,11 +164,12 @@ static void test_hybrid_limits(void **state) {
         float *dem = random_dem(seed, w, h);
         pg_pits_topo t;
         pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
-        for (int eps = 0; eps < 2; eps++) {
+        for (int eps = 0; eps < 4; eps++) {
             pg_pits_opts o;
             pg_pits_opts_default(&o);
             set_sinks(&o, seed);
-            o.epsilon = eps;
+            o.descent = eps >= 2;
+            o.epsilon = eps % 2;
             float *a = malloc(sizeof(float) * w * h), *b = malloc(sizeof(float) * w * h);
             memcpy(a, dem, sizeof(float) * w * h);
             memcpy(b, dem, sizeof(float) * w * h);
@@ -201,37 +205,40 @@ static void test_hybrid_limits(void **state) {
  * must fill it too. */
 static void test_hybrid_length_limit(void **state) {
     (void)state;
-    float dem[27];
-    for (int i = 0; i < 27; i++)
-        dem[i] = 20.0f;
-    dem[9] = -1.0f; /* sea */
-    for (int x = 1; x <= 5; x++)
-        dem[9 + x] = 10.0f;
-    dem[9 + 6] = 1.0f; /* the pit (above the sea level 0) */
-    pg_pits_topo t;
-    pg_pits_topo_grid(&t, 9, 3, NULL);
-    pg_pits_opts o;
-    pg_pits_opts_default(&o);
-    o.method = PG_PITS_HYBRID;
-    o.epsilon = false; /* so the walls' flats stay exactly as they are */
-    o.has_sea_level = true;
-    o.sea_level = 0;
-    double lengths[3] = {4, 5, 5}, depths[3] = {INFINITY, INFINITY, 8.9};
-    for (int k = 0; k < 3; k++) {
-        float h[27];
-        memcpy(h, dem, sizeof h);
-        o.max_length = lengths[k];
-        o.max_depth = depths[k];
-        pg_pits_result r;
-        assert_int_equal(pg_pits_remove(&t, h, &o, &r, NULL), PG_OK);
-        if (k == 1) { /* carved: the 5 corridor cells go below the pit, nothing rises */
-            assert_int_equal(r.lowered, 5);
-            assert_int_equal(r.raised, 0);
-            for (int x = 1; x <= 5; x++)
-                assert_true(h[9 + x] < 1.0f);
-        } else { /* filled: the pit rises to the corridor, nothing is carved */
-            assert_int_equal(r.lowered, 0);
-            assert_true(h[15] >= 10.0f);
+    for (int descent = 0; descent < 2; descent++) {
+        float dem[27];
+        for (int i = 0; i < 27; i++)
+            dem[i] = 20.0f;
+        dem[9] = -1.0f; /* sea */
+        for (int x = 1; x <= 5; x++)
+            dem[9 + x] = 10.0f;
+        dem[9 + 6] = 1.0f; /* the pit (above the sea level 0) */
+        pg_pits_topo t;
+        pg_pits_topo_grid(&t, 9, 3, NULL);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        o.method = PG_PITS_HYBRID;
+        o.epsilon = false; /* so the walls' flats stay exactly as they are */
+        o.descent = descent;
+        o.has_sea_level = true;
+        o.sea_level = 0;
+        double lengths[3] = {4, 5, 5}, depths[3] = {INFINITY, INFINITY, 8.9};
+        for (int k = 0; k < 3; k++) {
+            float h[27];
+            memcpy(h, dem, sizeof h);
+            o.max_length = lengths[k];
+            o.max_depth = depths[k];
+            pg_pits_result r;
+            assert_int_equal(pg_pits_remove(&t, h, &o, &r, NULL), PG_OK);
+            if (k == 1) { /* carved: the 5 corridor cells go below the pit, nothing rises */
+                assert_int_equal(r.lowered, 5);
+                assert_int_equal(r.raised, 0);
+                for (int x = 1; x <= 5; x++)
+                    assert_true(h[9 + x] < 1.0f);
+            } else { /* filled: the pit rises to the corridor, nothing is carved */
+                assert_int_equal(r.lowered, 0);
+                assert_true(h[15] >= 10.0f);
+            }
         }
     }
 }

@@ -118,6 +118,10 @@ typedef struct pg_pits_opts {
      * one OpenMP thread is available or tile_rows > 0 (rows per tile; 0 = automatic).
      * Its result is bit-identical to the serial fill. Thread count: OpenMP's. */
     int tile_rows;
+    /* breach and hybrid: carve along the descent tree of the minimal epsilon-surface
+     * instead of the flood tree (src/pg_pits_descent_breach.c). Its result depends on
+     * no flood order, so a tiling (MPI ranks) can reproduce it bit for bit. */
+    bool descent;
 } pg_pits_opts;
 
 /* Defaults: breach with epsilon, no sea level, no lakes, closed edges, no no-data,

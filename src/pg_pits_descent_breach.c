@@ -1,0 +1,179 @@
+/* pg_pits_descent_breach.c - breaching (and hybrid breaching) along the descent tree
+ * of the minimal epsilon-surface: a form of pit removal that does not depend on any
+ * flood order, so that tiles on different MPI ranks can compute it.
+ *
+ * Sources: the carving is Soille's (2004, Water Resources Research 40:W12509; as in
+ * Scott & Dodgson 2021 §3.2): a channel from each pit, each cell just below the
+ * previous one, until the channel meets lower ground. The limits are Lindsay's (2016,
+ * Hydrological Processes 30(6):846-857): channels at most max_depth deep and
+ * max_length cells long, depressions that would need more are filled. The tree is
+ * new: Soille's channel follows the flood tree of a global priority queue, whose
+ * shape depends on the order in which the whole planet is flooded. Here every
+ * non-sink cell c has the parent
+ *     P(c) = the neighbour n with the smallest (W(n), id(n)),
+ * W the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c), which is
+ * unique, so P is a pure function of the heights. W(P(c)) < W(c) always, so following
+ * P reaches a sink: through a depression P leads by the fewest steps to its spill
+ * point, outside it down the steepest neighbour of W.
+ *
+ * The channels: every pit - a non-sink cell without a strictly lower neighbour (and,
+ * without epsilon, one the minimal fill raises: drained flats stay flat) - starts a
+ * token of value h(pit). A token at cell x with value v stops when x is a
+ * sink or h(x) < v (lower ground); otherwise x is lowered to min(h(x), v) and the
+ * token moves on to P(x) with value nextbelow(v) (with or without epsilon, as
+ * Soille's carving; epsilon only decides whether the hybrid's fill is the minimal
+ * fill or the minimal epsilon-surface). Where
+ * tokens meet, the lowest wins: it carves everything the others would (the same path,
+ * lower values) and stops no earlier. So each cell's result is
+ *     v(x) = min(h(x) if x is a pit, min over children c that pass a token of below(v(c)))
+ *     B(x) = min(h(x), v(x)),  and x passes a token iff v(x) <= h(x), x not a sink,
+ * which one pass over the tree, children before parents (a count of unfinished
+ * children per cell), computes in linear time. Hybrid: a cell may be lowered only if
+ * h(x) - v(x) <= max_depth and its channel (lowered cells from the pit) is at most
+ * max_length long; otherwise the token stops there, and the minimal (epsilon-)fill of
+ * the carved surface fills what no channel drained. With max_length 0 nothing is
+ * carved and the result is exactly the fill.
+ *
+ * Why B drains (strictly): a cell not lowered and not a pit has a lower
+ * neighbour, which B only lowers further; a pit, or a lowered cell, passes a token
+ * below its own value to its parent, which ends below it (lowered, or lower ground
+ * where the token stopped, or a sink). Every value is a function of the heights and
+ * the tree alone, so the result is unique: a tiling only changes the order of the
+ * pass, never its outcome.
+ * Preconditions: pits_begin marked the sinks; heights are not NaN (no-data is -inf). */
+#include "pg_pits_internal.h"
+
+#include <stdlib.h>
+
+typedef struct descent {
+    const pg_pits_topo *t;
+    float *h;
+    const uint8_t *st;
+    const float *w;    /* the minimal epsilon-surface */
+    const float *fill; /* without epsilon: the minimal fill, else NULL */
+    uint32_t *parent;  /* UINT32_MAX for sinks */
+    uint8_t *pending;  /* children not yet passed */
+    float *v;          /* incoming token value, +inf for none */
+    uint32_t *len;     /* channel length of the winning token */
+    double max_depth, max_length;
+    int eps;
+    uint64_t channels;       /* cells that start a channel (the first cell a token lowers) */
+    const double *sea_level; /* NULL without a sea level */
+} descent;
+
+static float eff_w(const descent *d, uint32_t id) {
+    return d->st[id] == PITS_CLOSED ? d->w[id] : -INFINITY;
+}
+
+/* P(c) and the children counts; pits get their own token. */
+static void build_tree(descent *d) {
+    uint32_t nb[8];
+    for (uint64_t i = 0; i < d->t->ncells; i++) {
+        d->v[i] = INFINITY;
+        d->len[i] = 0;
+        if (d->st[i] == PITS_CLOSED) continue;
+        d->parent[i] = UINT32_MAX;
+    }
+    for (uint64_t i = 0; i < d->t->ncells; i++) {
+        if (d->st[i] != PITS_CLOSED) continue;
+        int k = pg_pits_neighbours(d->t, (uint32_t)i, nb), lower = 0;
+        uint64_t best = UINT64_MAX;
+        for (int j = 0; j < k; j++) {
+            uint64_t key = pits_key(eff_w(d, nb[j]), nb[j]);
+            if (key < best) best = key;
+            lower |= d->st[nb[j]] != PITS_CLOSED || d->h[nb[j]] < d->h[i];
+        }
+        uint32_t p = pits_key_id(best);
+        d->parent[i] = p;
+        if (d->pending[p] < 255) d->pending[p]++;
+        /* without epsilon, drained flats need nothing: only cells the minimal fill
+         * raises (in d->fill) start a channel */
+        if (!lower && (!d->fill || d->fill[i] > d->h[i])) d->v[i] = d->h[i];
+    }
+}
+
+/* x is done: carve it if its token may, and pass the token on. */
+static void settle(descent *d, uint32_t x) {
+    float to, pass;
+    uint32_t plen, p = d->parent[x];
+    if (!pits_token(d->h[x], d->v[x], d->len[x], d->max_depth, d->max_length, &to, &pass, &plen))
+        return;
+    if (to < d->h[x] && d->len[x] == 0) d->channels++;
+    d->h[x] = to;
+    if (d->st[p] == PITS_CLOSED) pits_token_merge(&d->v[p], &d->len[p], pass, plen);
+}
+
+/* Children before parents: start from the cells nobody drains into. */
+static int sweep(descent *d) {
+    pits_fifo f = {0};
+    for (uint64_t i = 0; i < d->t->ncells; i++)
+        if (d->st[i] == PITS_CLOSED && d->pending[i] == 0) pits_fifo_push(&f, (uint32_t)i);
+    while (!pits_fifo_empty(&f) && !f.oom) {
+        uint32_t x = pits_fifo_pop(&f);
+        settle(d, x);
+        uint32_t p = d->parent[x];
+        if (d->st[p] == PITS_CLOSED && --d->pending[p] == 0) pits_fifo_push(&f, p);
+    }
+    int oom = f.oom;
+    pits_fifo_free(&f);
+    return oom;
+}
+
+/* Hybrid: the minimal (epsilon-)fill of the carved heights, with the same sinks
+ * (choosing them again could pick a carved cell as the lowest). */
+static int fill_rest(descent *d, pits_heap *q, float *w) {
+    uint8_t *st = (uint8_t *)d->st;
+    for (uint64_t i = 0; i < d->t->ncells; i++)
+        if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
+    pits_heap_free(q);
+    if (d->sea_level) /* the sea level decides the sinks, as in pg_mpi_pits_fill */
+        for (uint64_t i = 0; i < d->t->ncells; i++)
+            if (st[i] == PITS_OPEN && d->h[i] <= *d->sea_level) st[i] = PITS_SINK;
+    pits_seed(d->t, st, q);
+    if (q->oom || pits_meps_compute(d->t, d->h, st, q, w, d->eps)) return -1;
+    for (uint64_t i = 0; i < d->t->ncells; i++)
+        if (st[i] == PITS_CLOSED) d->h[i] = w[i];
+    return 0;
+}
+
+pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                              pg_pits_result *res, pg_error *err) {
+    pits_heap q = {0};
+    uint64_t nsinks = 0;
+    uint8_t *st = NULL;
+    pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
+    if (s) return s;
+    descent d = {.t = t,
+                 .h = h,
+                 .st = st,
+                 .max_depth = INFINITY,
+                 .max_length = INFINITY,
+                 .eps = o->epsilon,
+                 .sea_level = o->has_sea_level ? &o->sea_level : NULL};
+    if (o->method == PG_PITS_HYBRID) d.max_depth = o->max_depth, d.max_length = o->max_length;
+    float *w = malloc(t->ncells * sizeof *w);
+    d.w = w;
+    d.parent = malloc(t->ncells * sizeof *d.parent);
+    d.pending = calloc(t->ncells, 1);
+    d.v = malloc(t->ncells * sizeof *d.v);
+    d.len = malloc(t->ncells * sizeof *d.len);
+    float *fill = o->epsilon ? NULL : malloc(t->ncells * sizeof *fill);
+    int oom = !w || !d.parent || !d.pending || !d.v || !d.len || (!o->epsilon && !fill);
+    if (!oom && fill) { /* the minimal fill first, then the same sinks for W */
+        oom = pits_meps_compute(t, h, st, &q, fill, 0);
+        for (uint64_t i = 0; i < t->ncells; i++)
+            if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
+        d.fill = fill;
+    }
+    if (!oom) oom = pits_meps_compute(t, h, st, &q, w, 1);
+    if (!oom) build_tree(&d);
+    if (!oom) oom = sweep(&d);
+    if (!oom && o->method == PG_PITS_HYBRID) oom = fill_rest(&d, &q, w);
+    pits_heap_free(&q);
+    free(w), free(fill), free(d.parent), free(d.pending), free(d.v), free(d.len);
+    pits_end(t, h, o, st);
+    free(st);
+    if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for breaching");
+    if (res) res->sinks = nsinks, res->breaches = d.channels;
+    return PG_OK;
+}
