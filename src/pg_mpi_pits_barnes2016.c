@@ -181,11 +181,13 @@ static void ring_of(const dfill *d, int q, ids *send, ids *recv) {
             }
 }
 
-static pg_status exchange_ring(dfill *d, pg_error *err) {
+/* Every rank's ring cells get their owners' values of arr (elements of elem bytes). */
+static pg_status exchange_cells(dfill *d, void *arr, size_t elem, pg_error *err) {
     const int P = pg_mpi_size(d->m);
+    unsigned char *a = arr;
     ids *send = calloc((size_t)P, sizeof *send), *recv = calloc((size_t)P, sizeof *recv);
     MPI_Request *req = malloc(2 * (size_t)P * sizeof *req);
-    float **buf = calloc(2 * (size_t)P, sizeof *buf);
+    unsigned char **buf = calloc(2 * (size_t)P, sizeof *buf);
     int oom = !send || !recv || !req || !buf, nreq = 0;
     for (int q = 0; !oom && q < P; q++)
         ring_of(d, q, send, recv);
@@ -193,29 +195,35 @@ static pg_status exchange_ring(dfill *d, pg_error *err) {
         ids_unique(&send[q]);
         ids_unique(&recv[q]);
         oom |= send[q].oom | recv[q].oom;
-        buf[q] = malloc((send[q].n + 1) * sizeof **buf);
-        buf[P + q] = malloc((recv[q].n + 1) * sizeof **buf);
+        buf[q] = malloc((send[q].n + 1) * elem);
+        buf[P + q] = malloc((recv[q].n + 1) * elem);
         oom |= !buf[q] || !buf[P + q];
     }
     for (int q = 0; !oom && q < P; q++) {
         if (send[q].n) {
             for (size_t k = 0; k < send[q].n; k++)
-                buf[q][k] = d->h[send[q].a[k]];
-            MPI_Isend(buf[q], (int)send[q].n, MPI_FLOAT, q, 11, MPI_COMM_WORLD, &req[nreq++]);
+                memcpy(buf[q] + k * elem, a + (size_t)send[q].a[k] * elem, elem);
+            MPI_Isend(buf[q], (int)(send[q].n * elem), MPI_BYTE, q, 11, MPI_COMM_WORLD,
+                      &req[nreq++]);
         }
         if (recv[q].n)
-            MPI_Irecv(buf[P + q], (int)recv[q].n, MPI_FLOAT, q, 11, MPI_COMM_WORLD, &req[nreq++]);
+            MPI_Irecv(buf[P + q], (int)(recv[q].n * elem), MPI_BYTE, q, 11, MPI_COMM_WORLD,
+                      &req[nreq++]);
     }
     if (!oom) MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
     for (int q = 0; !oom && q < P; q++)
         for (size_t k = 0; k < recv[q].n; k++)
-            d->h[recv[q].a[k]] = buf[P + q][k];
+            memcpy(a + (size_t)recv[q].a[k] * elem, buf[P + q] + k * elem, elem);
     for (int q = 0; send && recv && buf && q < P; q++) {
         free(send[q].a), free(recv[q].a);
         free(buf[q]), free(buf[P + q]);
     }
     free(send), free(recv), free(req), free(buf);
     return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (ring)") : PG_OK;
+}
+
+static pg_status exchange_ring(dfill *d, pg_error *err) {
+    return exchange_cells(d, d->h, sizeof *d->h, err);
 }
 
 /* ---- step 1 and 2: one tile ---- */
@@ -547,12 +555,191 @@ pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_
     return o->epsilon ? eps_rounds(&d, t0, t1, info, err) : PG_OK;
 }
 
+/* ---- breach and hybrid along the descent tree (pg_pits_descent_breach.c) ----
+ * The tree (each cell's parent: the neighbour with the smallest (W, id)) and the pits
+ * are computed by each rank for its own cells from a ring of W and of the heights.
+ * The tokens then flow children-first as in the serial pass, in rounds: each round
+ * every rank sweeps its cells, taking the tokens its ring cells passed into them last
+ * round, and sends the tokens its cells pass to other ranks' cells. Tokens only get
+ * lower from round to round (a new token can only win), so the rounds stop, and then
+ * every cell holds the tree recursion's unique value: the serial result. */
+
+typedef struct dtree {
+    dfill *d;
+    int t0, t1;
+    const float *orig; /* the heights before carving (owned and ring) */
+    uint32_t *parent;  /* every owned and ring cell's parent (ring: from its owner) */
+    float *pass;       /* token each cell passes to its parent, +inf for none */
+    float *plen;       /* its channel length (a float, exact below 2^24, to share it) */
+    float *v;          /* owned: incoming token */
+    uint32_t *len;     /* owned: its channel length */
+    uint8_t *pending;  /* owned: owned children not yet swept */
+    uint8_t *pit;      /* owned: starts a token */
+    double max_depth, max_length;
+} dtree;
+
+static int owned(const dtree *e, uint32_t id) {
+    int t = tile_of(e->d, id);
+    return t >= e->t0 && t < e->t1;
+}
+
+#define DT_FOR_OWNED(e, id)                                                                        \
+    for (int t_ = (e)->t0; t_ < (e)->t1; t_++)                                                     \
+        for (uint32_t y_ = 0; y_ < (e)->d->ts; y_++)                                               \
+            for (uint32_t x_ = 0, id = tile_cell((e)->d, t_, 0, y_); x_ < (e)->d->ts;              \
+                 x_++, id = tile_cell((e)->d, t_, x_, y_))
+
+/* Parents and pits of the owned cells; W in w (owned and ring), heights in orig. */
+static void dt_tree(dtree *e, const float *w) {
+    const dfill *d = e->d;
+    uint32_t nb[8];
+    DT_FOR_OWNED(e, id) {
+        e->pass[id] = INFINITY, e->plen[id] = 0, e->parent[id] = UINT32_MAX;
+        if (e->orig[id] <= d->sea) continue;
+        int k = pg_pits_neighbours(d->t, id, nb), lower = 0;
+        uint64_t best = UINT64_MAX;
+        for (int j = 0; j < k; j++) {
+            int sk = e->orig[nb[j]] <= d->sea;
+            uint64_t key = pits_key(sk ? -INFINITY : w[nb[j]], nb[j]);
+            if (key < best) best = key;
+            lower |= sk || e->orig[nb[j]] < e->orig[id];
+        }
+        e->parent[id] = pits_key_id(best);
+        e->pit[id] = !lower;
+    }
+}
+
+/* One round: returns -1 when out of memory, else whether an owned cell's token changed. */
+static int dt_round(dtree *e, float *h) {
+    const dfill *d = e->d;
+    uint32_t nb[8];
+    DT_FOR_OWNED(e, id) {
+        h[id] = e->orig[id];
+        e->v[id] = e->pit[id] ? e->orig[id] : INFINITY;
+        e->len[id] = 0;
+        e->pending[id] = 0;
+    }
+    DT_FOR_OWNED(e, id) { /* children: owned ones count, ring ones bring last round's token */
+        if (e->parent[id] == UINT32_MAX) continue;
+        if (owned(e, e->parent[id]) && e->orig[e->parent[id]] > d->sea) e->pending[e->parent[id]]++;
+        int k = pg_pits_neighbours(d->t, id, nb);
+        for (int j = 0; j < k; j++)
+            if (!owned(e, nb[j]) && e->parent[nb[j]] == id && e->pass[nb[j]] < INFINITY)
+                pits_token_merge(&e->v[id], &e->len[id], e->pass[nb[j]], (uint32_t)e->plen[nb[j]]);
+    }
+    pits_fifo f = {0};
+    DT_FOR_OWNED(e, id) {
+        if (e->parent[id] != UINT32_MAX && e->pending[id] == 0) pits_fifo_push(&f, id);
+    }
+    int changed = 0;
+    while (!pits_fifo_empty(&f) && !f.oom) {
+        uint32_t x = pits_fifo_pop(&f), p = e->parent[x], plen = 0;
+        float to, pass = INFINITY;
+        if (pits_token(h[x], e->v[x], e->len[x], e->max_depth, e->max_length, &to, &pass, &plen))
+            h[x] = to;
+        changed |= pass != e->pass[x] || (float)plen != e->plen[x];
+        e->pass[x] = pass, e->plen[x] = (float)plen;
+        if (!owned(e, p) || e->orig[p] <= d->sea) continue;
+        if (pass < INFINITY) pits_token_merge(&e->v[p], &e->len[p], pass, plen);
+        if (--e->pending[p] == 0) pits_fifo_push(&f, p);
+    }
+    int oom = f.oom;
+    pits_fifo_free(&f);
+    return oom ? -1 : changed;
+}
+
+static pg_status dt_rounds(dtree *e, float *h, pg_mpi_pits_info *info, pg_error *err) {
+    int bad = 0, more = 1;
+    while (!(bad = pg_mpi_max_int(e->d->m, bad)) && more) {
+        int r = dt_round(e, h);
+        bad = r < 0 || exchange_cells(e->d, e->pass, sizeof *e->pass, err) ||
+              exchange_cells(e->d, e->plen, sizeof *e->plen, err);
+        more = pg_mpi_max_int(e->d->m, r > 0);
+        info->breach_rounds++;
+    }
+    return bad ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (breach rounds)")
+               : PG_OK;
+}
+
+static pg_status dt_run(dfill *d, int t0, int t1, const pg_pits_opts *o, pg_mpi_pits_info *info,
+                        pg_error *err) {
+    const size_t nc = d->t->ncells;
+    float *orig = malloc(nc * sizeof *orig), *w = malloc(nc * sizeof *w);
+    dtree e = {d,
+               t0,
+               t1,
+               orig,
+               malloc(nc * sizeof(uint32_t)),
+               malloc(nc * sizeof(float)),
+               malloc(nc * sizeof(float)),
+               malloc(nc * sizeof(float)),
+               malloc(nc * sizeof(uint32_t)),
+               malloc(nc),
+               calloc(nc, 1),
+               INFINITY,
+               INFINITY};
+    if (o->method == PG_PITS_HYBRID) e.max_depth = o->max_depth, e.max_length = o->max_length;
+    int oom =
+        !orig || !w || !e.parent || !e.pass || !e.plen || !e.v || !e.len || !e.pending || !e.pit;
+    pg_status st = pg_mpi_max_int(d->m, oom) ? PG_ERR_NOMEM : PG_OK;
+    pg_pits_opts f = *o;
+    f.method = PG_PITS_FILL, f.epsilon = true;
+    if (!st) st = exchange_ring(d, err); /* the ring's heights */
+    if (!st) {
+        memcpy(orig, d->h, nc * sizeof *orig);
+        memcpy(w, d->h, nc * sizeof *w);
+        pg_mpi_pits_info fi = {0};
+        st = pg_mpi_pits_fill(d->m, d->T, d->n, w, &f, &fi, err); /* W; its ring too */
+        if (!st) st = exchange_cells(d, w, sizeof *w, err);
+        info->eps_rounds = fi.eps_rounds;
+    }
+    if (!st) dt_tree(&e, w);
+    if (!st) st = exchange_cells(d, e.parent, sizeof *e.parent, err);
+    if (!st) st = dt_rounds(&e, d->h, info, err);
+    if (!st && o->method == PG_PITS_HYBRID) { /* fill what no channel drained */
+        f.epsilon = o->epsilon;
+        pg_mpi_pits_info fi = {0};
+        st = pg_mpi_pits_fill(d->m, d->T, d->n, d->h, &f, &fi, err);
+    }
+    free(orig), free(w), free(e.parent), free(e.pass), free(e.plen), free(e.v), free(e.len);
+    free(e.pending), free(e.pit);
+    if (st == PG_ERR_NOMEM && !err->msg[0]) pg_error_set(err, st, "pits (MPI): out of memory");
+    return st;
+}
+
+pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                             pg_mpi_pits_info *info, pg_error *err) {
+    if (o->method == PG_PITS_FILL) return pg_mpi_pits_fill(m, tiles, n, h, o, info, err);
+    if (!o->descent || !o->epsilon || !o->has_sea_level || o->lakes || o->has_nodata)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "pits (MPI): distributed breach and hybrid need the descent tree, "
+                            "epsilon, a sea level, no lakes and no no-data");
+    pg_pits_topo topo;
+    pg_status st = pg_pits_topo_cube(&topo, n, err);
+    if (!st && (tiles < 1 || n % (uint32_t)tiles))
+        st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
+                          n, tiles);
+    if (st) return st;
+    dfill d = {m, &topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
+    const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    memset(info, 0, sizeof *info);
+    double t_start = MPI_Wtime();
+    st = dt_run(&d, pg_mpi_tile_first(nt, P, me), pg_mpi_tile_first(nt, P, me + 1), o, info, err);
+    info->breach_seconds = MPI_Wtime() - t_start;
+    return st;
+}
+
 #else
 
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                            pg_mpi_pits_info *info, pg_error *err) {
     (void)m, (void)tiles, (void)n, (void)h, (void)o, (void)info;
     return pg_error_set(err, PG_ERR_RUNTIME, "this planetgen was built without MPI");
+}
+
+pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                             pg_mpi_pits_info *info, pg_error *err) {
+    return pg_mpi_pits_fill(m, tiles, n, h, o, info, err);
 }
 
 #endif

@@ -33,7 +33,8 @@ static float dem(uint32_t id, uint32_t n, uint32_t seed) {
     return (float)(s + (double)(z % 1000) * 0.4);
 }
 
-static int worker(uint32_t n, int T, uint32_t seed, int eps) {
+/* mode 0: plain fill, 1: fill with epsilon, 2: breach, 3: hybrid (descent tree, epsilon) */
+static int worker(uint32_t n, int T, uint32_t seed, int mode) {
     pg_mpi *m = NULL;
     pg_error err = {0};
     if (pg_mpi_init(&m, &err)) {
@@ -47,17 +48,21 @@ static int worker(uint32_t n, int T, uint32_t seed, int eps) {
     pg_pits_topo topo;
     pg_pits_opts o;
     pg_pits_opts_default(&o);
-    o.method = PG_PITS_FILL;
-    o.epsilon = eps;
+    const pg_pits_method methods[] = {PG_PITS_FILL, PG_PITS_FILL, PG_PITS_BREACH, PG_PITS_HYBRID};
+    o.method = methods[mode];
+    o.epsilon = mode > 0;
+    o.descent = mode >= 2;
+    o.max_depth = 150; /* hybrid: some channels too deep, some too long */
+    o.max_length = 6;
     o.has_sea_level = true;
     o.sea_level = 0;
     pg_mpi_pits_info info = {0};
     int rc = pg_pits_topo_cube(&topo, n, &err) || pg_pits_remove(&topo, ref, &o, NULL, &err) ||
-             pg_mpi_pits_fill(m, T, n, h, &o, &info, &err);
+             pg_mpi_pits_remove(m, T, n, h, &o, &info, &err);
     if (rc) fprintf(stderr, "worker: %s\n", err.msg);
     const int nt = 6 * T * T, P = pg_mpi_size(m), me = pg_mpi_rank(m);
     const uint32_t ts = n / (uint32_t)T;
-    double diff = 0, raised = 0;
+    double diff = 0, raised = 0, lowered = 0;
     for (int t = pg_mpi_tile_first(nt, P, me); !rc && t < pg_mpi_tile_first(nt, P, me + 1); t++)
         for (uint32_t y = 0; y < ts; y++)
             for (uint32_t x = 0; x < ts; x++) {
@@ -65,29 +70,31 @@ static int worker(uint32_t n, int T, uint32_t seed, int eps) {
                          ty = (uint32_t)t / (uint32_t)T % (uint32_t)T;
                 uint32_t id = f * n * n + (ty * ts + y) * n + tx * ts + x;
                 diff += memcmp(&h[id], &ref[id], sizeof(float)) != 0;
-                raised += ref[id] != dem(id, n, seed);
+                raised += ref[id] > dem(id, n, seed);
+                lowered += ref[id] < dem(id, n, seed);
             }
     rc = pg_mpi_max_int(m, rc);
     diff = pg_mpi_sum_double(m, diff);
     raised = pg_mpi_sum_double(m, raised);
+    lowered = pg_mpi_sum_double(m, lowered);
     double labels = info.labels;
     if (me == 0)
-        printf("ranks %d tiles %d eps %d: differing cells %.0f, raised cells %.0f, labels %.0f, "
-               "epsilon rounds %d\n",
-               P, nt, eps, diff, raised, labels, info.eps_rounds);
+        printf("ranks %d tiles %d mode %d: differing cells %.0f, raised cells %.0f, lowered "
+               "cells %.0f, labels %.0f, epsilon rounds %d, breach rounds %d\n",
+               P, nt, mode, diff, raised, lowered, labels, info.eps_rounds, info.breach_rounds);
     free(h), free(ref);
     pg_mpi_finalize(m);
-    return rc ? 2 : (diff == 0 && raised > 0 ? 0 : 1);
+    return rc ? 2 : (diff == 0 && raised + lowered > 0 ? 0 : 1);
 }
 
-static int run_workers(int np, uint32_t n, int T, uint32_t seed, int eps) {
+static int run_workers(int np, uint32_t n, int T, uint32_t seed, int mode) {
     char cmd[4096], outp[256];
     snprintf(outp, sizeof outp, "/tmp/pg_mpi_pits.%d", (int)getpid());
     snprintf(cmd, sizeof cmd,
              "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 mpirun --oversubscribe -np %d -x "
              "OMP_NUM_THREADS=1 '%s' --worker %u %d %u %d >%s "
              "2>&1 </dev/null",
-             np, self, n, T, seed, eps, outp);
+             np, self, n, T, seed, mode, outp);
     int st = system(cmd);
     FILE *f = fopen(outp, "r");
     size_t k = f ? fread(out, 1, sizeof out - 1, f) : 0;
@@ -98,16 +105,19 @@ static int run_workers(int np, uint32_t n, int T, uint32_t seed, int eps) {
 }
 
 /* min_rounds 3: round 2 changed cells (ring values from round 1 mattered), round 3
- * confirmed; one round alone would have left those cells wrong. */
+ * confirmed; one round alone would have left those cells wrong. The same for the
+ * breach's token rounds. */
 static void expect_same(int np, uint32_t n, int T, uint32_t seed, int min_rounds) {
-    for (int eps = 0; eps < 2; eps++) {
-        int rc = run_workers(np, n, T, seed, eps);
+    static const char *names[] = {"fill", "fill eps", "breach", "hybrid"};
+    for (int mode = 0; mode < 4; mode++) {
+        int rc = run_workers(np, n, T, seed, mode);
         if (rc != 0 || !strstr(out, "differing cells 0"))
-            fail_msg("mpirun -np %d, n %u, T %d, eps %d: exit %d: %s", np, n, T, eps, rc, out);
+            fail_msg("mpirun -np %d, n %u, T %d, %s: exit %d: %s", np, n, T, names[mode], rc, out);
         print_message("%s", out);
-        const char *r = strstr(out, "epsilon rounds ");
-        if (eps && (!r || atoi(r + 15) < min_rounds))
-            fail_msg("mpirun -np %d: expected %d epsilon rounds at least: %s", np, min_rounds, out);
+        const char *r = strstr(out, mode >= 2 ? "breach rounds " : "epsilon rounds ");
+        if (mode && (!r || atoi(r + (mode >= 2 ? 14 : 15)) < min_rounds))
+            fail_msg("mpirun -np %d, %s: expected %d rounds at least: %s", np, names[mode],
+                     min_rounds, out);
     }
 }
 

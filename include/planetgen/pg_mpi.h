@@ -106,9 +106,19 @@ typedef struct pg_mpi_pits_info {
     uint64_t raised;                     /* cells of this rank raised (by the plain fill) */
     int eps_rounds;                      /* epsilon: ring exchanges until nothing changed */
     double eps_seconds;                  /* epsilon: time of those rounds on this rank */
+    int breach_rounds;                   /* breach/hybrid: token rounds until nothing changed */
+    double breach_seconds;               /* breach/hybrid: the whole removal on this rank */
 } pg_mpi_pits_info;
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                            pg_mpi_pits_info *info, pg_error *err);
+
+/* Any method: the fill as above; breach and hybrid along the descent tree
+ * (o->descent, src/pg_pits_descent_breach.c), with epsilon: W by the distributed
+ * fill, then the tokens in rounds of ring exchanges until none changes. Owned cells
+ * come out bit-identical to pg_pits_remove with the same options. Preconditions as
+ * for the fill, plus o->descent and o->epsilon for breach and hybrid. Collective. */
+pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                             pg_mpi_pits_info *info, pg_error *err);
 
 #ifdef __cplusplus
 }
