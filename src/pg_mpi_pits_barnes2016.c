@@ -491,6 +491,17 @@ static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg
 
 /* ---- the whole ---- */
 
+/* The cube topology and the tiling of n texels per face edge into tiles x tiles. */
+static pg_status dfill_init(dfill *d, pg_pits_topo *topo, pg_mpi *m, int tiles, uint32_t n,
+                            float *h, const pg_pits_opts *o, pg_error *err) {
+    pg_status st = pg_pits_topo_cube(topo, n, err);
+    if (!st && (tiles < 1 || n % (uint32_t)tiles))
+        st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
+                          n, tiles);
+    if (!st) *d = (dfill){m, topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
+    return st;
+}
+
 static pg_status check(const pg_pits_opts *o, pg_error *err) {
     if (o->method != PG_PITS_FILL || !o->has_sea_level || o->lakes || o->has_nodata)
         return pg_error_set(err, PG_ERR_BADINPUT,
@@ -501,14 +512,11 @@ static pg_status check(const pg_pits_opts *o, pg_error *err) {
 
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                            pg_mpi_pits_info *info, pg_error *err) {
-    pg_status st = check(o, err);
     pg_pits_topo topo;
-    if (!st) st = pg_pits_topo_cube(&topo, n, err);
-    if (!st && (tiles < 1 || n % (uint32_t)tiles))
-        st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
-                          n, tiles);
+    dfill d;
+    pg_status st = check(o, err);
+    if (!st) st = dfill_init(&d, &topo, m, tiles, n, h, o, err);
     if (st) return st;
-    dfill d = {m, &topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
     const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
     const int t0 = pg_mpi_tile_first(nt, P, me), t1 = pg_mpi_tile_first(nt, P, me + 1);
     memset(info, 0, sizeof *info);
@@ -715,12 +723,9 @@ pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const p
                             "pits (MPI): distributed breach and hybrid need the descent tree, "
                             "epsilon, a sea level, no lakes and no no-data");
     pg_pits_topo topo;
-    pg_status st = pg_pits_topo_cube(&topo, n, err);
-    if (!st && (tiles < 1 || n % (uint32_t)tiles))
-        st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
-                          n, tiles);
+    dfill d;
+    pg_status st = dfill_init(&d, &topo, m, tiles, n, h, o, err);
     if (st) return st;
-    dfill d = {m, &topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
     const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
     memset(info, 0, sizeof *info);
     double t_start = MPI_Wtime();
