@@ -375,6 +375,30 @@ static pg_status exchange_hook(void *user, const pg_planet_level *L, int width, 
     return st;
 }
 
+static pg_status pits_hook(void *user, uint32_t n, int tiles, float *h, const pg_pits_opts *o,
+                           pg_error *err) {
+    pg_mpi *m = user;
+    pg_mpi_pits_info info;
+    double t0 = MPI_Wtime();
+    pg_status st = pg_mpi_pits_remove(m, tiles, n, h, o, &info, err);
+    m->stats.pits_seconds += MPI_Wtime() - t0;
+    return st;
+}
+
+static pg_status stats_hook(void *user, uint32_t n, int tiles, const float *h,
+                            const pg_pits_opts *o, const pg_pits_area *area, pg_pits_stats *out,
+                            pg_error *err) {
+    pg_mpi *m = user;
+    double t0 = MPI_Wtime();
+    pg_status st = pg_mpi_pits_stats(m, tiles, n, h, o, area, out, err);
+    m->stats.pits_seconds += MPI_Wtime() - t0;
+    return st;
+}
+
+static double sum_hook(void *user, double v) {
+    return pg_mpi_sum_double(user, v);
+}
+
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     m->tiles = tiles;
     m->ntiles = 6 * tiles * tiles;
@@ -383,6 +407,9 @@ void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     d->user = m;
     d->owns = owns_hook;
     d->exchange = exchange_hook;
+    d->pits = pits_hook;
+    d->stats = stats_hook;
+    d->sum = sum_hook;
 }
 
 const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m) {

@@ -734,6 +734,223 @@ pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const p
     return st;
 }
 
+/* ---- depression statistics (pg_pits_stats_compute, distributed) ----
+ * Membership (the minimal fill raises the cell) and the epsilon-fill come from the
+ * distributed fills. Each rank labels the depressions inside its tiles (a flood over
+ * its member cells), sums each label's cells, area, volume and depth, and records a
+ * pair of labels wherever two member cells in different ranks touch (the ring's
+ * labels come from their owners). Rank 0 joins the pairs (union-find) and counts the
+ * joined regions: the serial count, since the serial regions are the same 8-connected
+ * member sets. Areas and volumes are summed in another order, so their last bits may
+ * differ from the serial figures; the counts and the deepest cell do not. */
+
+typedef struct dlabel {
+    double label, cells, area, volume, depth;
+} dlabel;
+
+static double stat_area(const pg_pits_area *a, uint32_t id) {
+    if (!a) return 1.0;
+    if (a->per_cell) return a->per_cell[id];
+    return a->fn ? a->fn(a->ctx, id) : a->constant;
+}
+
+static uint32_t uf_find(uint32_t *p, uint32_t x) {
+    while (p[x] != x)
+        x = p[x] = p[p[x]];
+    return x;
+}
+
+/* Rank 0: join the labels (sorted by value) over the pairs; the number of regions. */
+static double join_labels(const dlabel *lab, size_t nl, const uint32_t *pairs, size_t np) {
+    uint32_t *parent = malloc((nl + 1) * sizeof *parent), *sorted = malloc((nl + 1) * 4);
+    double regions = 0;
+    if (!parent || !sorted) goto done;
+    for (size_t i = 0; i < nl; i++)
+        parent[i] = (uint32_t)i, sorted[i] = (uint32_t)lab[i].label;
+    for (size_t k = 0; k < np; k++) {
+        uint32_t a = label_index(sorted, nl, pairs[2 * k]),
+                 b = label_index(sorted, nl, pairs[2 * k + 1]);
+        if (a < nl && b < nl) parent[uf_find(parent, a)] = uf_find(parent, b);
+    }
+    for (size_t i = 0; i < nl; i++)
+        regions += uf_find(parent, (uint32_t)i) == i;
+done:
+    free(parent), free(sorted);
+    return regions;
+}
+
+static int cmp_dlabel(const void *x, const void *y) {
+    double a = ((const dlabel *)x)->label, b = ((const dlabel *)y)->label;
+    return a < b ? -1 : a > b;
+}
+
+/* Gather n items of `words` doubles (or uint32 pairs as doubles) on rank 0. */
+static double *gather_doubles(pg_mpi *m, const double *mine, size_t n, size_t *total, int *bad) {
+    const int P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    int cnt = n > INT_MAX ? -1 : (int)n;
+    int *counts = me == 0 ? calloc(2 * (size_t)P, sizeof *counts) : NULL;
+    MPI_Gather(&cnt, 1, MPI_INT, counts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    long long sum = 0;
+    double *all = NULL;
+    if (me == 0) {
+        for (int q = 0; counts && q < P; q++) {
+            if (counts[q] < 0) *bad = 1;
+            counts[P + q] = (int)sum;
+            sum += counts[q];
+        }
+        if (!counts || sum > INT_MAX) *bad = 1;
+        all = *bad ? NULL : malloc(((size_t)sum + 1) * sizeof *all);
+        if (!all) *bad = 1;
+    }
+    MPI_Bcast(bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!*bad)
+        MPI_Gatherv(mine, cnt, MPI_DOUBLE, all, counts, counts ? counts + P : NULL, MPI_DOUBLE, 0,
+                    MPI_COMM_WORLD);
+    free(counts);
+    *total = (size_t)sum;
+    return all;
+}
+
+/* Room for `need` elements in *a (capacity *cap, doubling); nonzero when out of memory. */
+static int grow(void **a, size_t *cap, size_t need, size_t elem) {
+    if (need <= *cap) return 0;
+    size_t c = *cap ? 2 * *cap : 1024;
+    while (c < need)
+        c *= 2;
+    void *g = realloc(*a, c * elem);
+    if (!g) return 1;
+    *a = g, *cap = c;
+    return 0;
+}
+
+/* Label the member cells of this rank's tiles; one dlabel per local region. */
+static int label_regions(dfill *d, int t0, int t1, const float *h, const float *efill,
+                         const uint8_t *member, uint32_t *label, const pg_pits_area *area,
+                         dlabel **out, size_t *nout) {
+    dtree e = {.d = d, .t0 = t0, .t1 = t1};
+    uint32_t *queue = malloc(((size_t)(t1 - t0) * d->ts * d->ts + 1) * sizeof *queue), nb[8];
+    dlabel *lab = NULL;
+    size_t nl = 0, cap = 0;
+    int oom = !queue;
+    DT_FOR_OWNED(&e, id) {
+        if (oom || !member[id] || label[id] != UINT32_MAX) continue;
+        if ((oom = grow((void **)&lab, &cap, nl + 1, sizeof *lab))) continue;
+        dlabel L = {id, 0, 0, 0, 0};
+        size_t head = 0, tail = 0;
+        queue[tail++] = id, label[id] = id;
+        while (head < tail) {
+            uint32_t c = queue[head++];
+            double a = stat_area(area, c), dep = (double)efill[c] - (double)h[c];
+            L.cells++, L.area += a, L.volume += dep * a;
+            if (dep > L.depth) L.depth = dep;
+            int k = pg_pits_neighbours(d->t, c, nb);
+            for (int j = 0; j < k; j++)
+                if (owned(&e, nb[j]) && member[nb[j]] && label[nb[j]] == UINT32_MAX)
+                    label[nb[j]] = id, queue[tail++] = nb[j];
+        }
+        lab[nl++] = L;
+    }
+    free(queue);
+    *out = lab, *nout = nl;
+    return oom;
+}
+
+/* Pairs of labels across rank boundaries, as doubles (label, label). */
+static int cross_pairs(dfill *d, int t0, int t1, const uint8_t *member, const uint32_t *label,
+                       double **out, size_t *nout) {
+    dtree e = {.d = d, .t0 = t0, .t1 = t1};
+    size_t n = 0, cap = 0;
+    double *v = NULL;
+    uint32_t nb[8];
+    int oom = 0;
+    DT_FOR_OWNED(&e, id) {
+        if (!member[id]) continue;
+        int k = pg_pits_neighbours(d->t, id, nb);
+        for (int j = 0; j < k; j++) {
+            if (owned(&e, nb[j]) || !member[nb[j]]) continue;
+            if (oom || grow((void **)&v, &cap, n + 2, sizeof *v)) {
+                oom = 1;
+                continue;
+            }
+            v[n++] = label[id], v[n++] = label[nb[j]];
+        }
+    }
+    *out = v, *nout = n;
+    return oom;
+}
+
+pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, const pg_pits_opts *o,
+                            const pg_pits_area *area, pg_pits_stats *out, pg_error *err) {
+    pg_pits_topo topo;
+    dfill d;
+    pg_pits_opts f = *o;
+    f.method = PG_PITS_FILL, f.epsilon = false;
+    pg_status st = check(&f, err);
+    const size_t nc = (size_t)6 * n * n;
+    float *fill = malloc(nc * sizeof *fill), *efill = malloc(nc * sizeof *efill);
+    uint8_t *member = calloc(nc, 1);
+    uint32_t *label = malloc(nc * sizeof *label);
+    if (!st && (!fill || !efill || !member || !label))
+        st = pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory for statistics");
+    if (!st) st = dfill_init(&d, &topo, m, tiles, n, fill, o, err);
+    memset(out, 0, sizeof *out);
+    pg_mpi_pits_info info;
+    if (!st) {
+        memcpy(fill, h, nc * sizeof *fill), memcpy(efill, h, nc * sizeof *efill);
+        st = pg_mpi_pits_fill(m, tiles, n, fill, &f, &info, err);
+    }
+    f.epsilon = true;
+    if (!st) st = pg_mpi_pits_fill(m, tiles, n, efill, &f, &info, err);
+    const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    const int t0 = pg_mpi_tile_first(nt, P, me), t1 = pg_mpi_tile_first(nt, P, me + 1);
+    dtree e = {.d = &d, .t0 = t0, .t1 = t1};
+    double sinks = 0;
+    if (!st) {
+        DT_FOR_OWNED(&e, id) {
+            member[id] = fill[id] > h[id];
+            label[id] = UINT32_MAX;
+            sinks += h[id] <= o->sea_level;
+        }
+        st = exchange_cells(&d, member, 1, err);
+    }
+    dlabel *lab = NULL;
+    double *pairs = NULL;
+    size_t nl = 0, np = 0;
+    int bad = st != PG_OK;
+    bad = bad || label_regions(&d, t0, t1, h, efill, member, label, area, &lab, &nl);
+    if (!pg_mpi_max_int(m, bad)) bad = exchange_cells(&d, label, sizeof *label, err) != PG_OK;
+    bad = bad || cross_pairs(&d, t0, t1, member, label, &pairs, &np);
+    bad = pg_mpi_max_int(m, bad);
+    size_t tl = 0, tp = 0;
+    double *all_lab = bad ? NULL : gather_doubles(m, (const double *)lab, nl * 5, &tl, &bad);
+    double *all_pairs = bad ? NULL : gather_doubles(m, pairs, np, &tp, &bad);
+    double res[6] = {0};
+    if (!bad && me == 0) {
+        dlabel *L = (dlabel *)all_lab;
+        size_t nL = tl / 5;
+        qsort(L, nL, sizeof *L, cmp_dlabel);
+        uint32_t *pr = malloc((tp + 1) * sizeof *pr);
+        for (size_t k = 0; pr && k < tp; k++)
+            pr[k] = (uint32_t)all_pairs[k];
+        res[0] = pr ? join_labels(L, nL, pr, tp / 2) : -1;
+        for (size_t i = 0; i < nL; i++) {
+            res[1] += L[i].cells, res[2] += L[i].area, res[3] += L[i].volume;
+            if (L[i].depth > res[4]) res[4] = L[i].depth;
+        }
+        free(pr);
+    }
+    if (!bad) MPI_Bcast(res, 6, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    sinks = bad ? 0 : pg_mpi_sum_double(m, sinks);
+    out->depressions = (uint64_t)res[0], out->depression_cells = (uint64_t)res[1];
+    out->depression_area_m2 = res[2], out->depression_volume_m3 = res[3];
+    out->max_depth_m = res[4], out->sinks = (uint64_t)sinks;
+    free(fill), free(efill), free(member), free(label), free(lab), free(pairs);
+    free(all_lab), free(all_pairs);
+    if (!st && (bad || res[0] < 0))
+        st = pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory for statistics");
+    return st;
+}
+
 #else
 
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
@@ -745,6 +962,12 @@ pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_
 pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                              pg_mpi_pits_info *info, pg_error *err) {
     return pg_mpi_pits_fill(m, tiles, n, h, o, info, err);
+}
+
+pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, const pg_pits_opts *o,
+                            const pg_pits_area *area, pg_pits_stats *out, pg_error *err) {
+    (void)m, (void)tiles, (void)n, (void)h, (void)o, (void)area, (void)out;
+    return pg_error_set(err, PG_ERR_RUNTIME, "this planetgen was built without MPI");
 }
 
 #endif

@@ -249,6 +249,23 @@ static bool owned_texel(const ctx *c, int f, int64_t x, int64_t y) {
     return owns(c, f, (int)(x / ts), (int)(y / ts));
 }
 
+/* Distributed pit removal for a level of r texels per face edge: the hook, when the
+ * tiles divide the level (coarser levels are gathered: at most T^2 texels a face). */
+static bool dist_pits(const ctx *c, int r) {
+    return c->p->dist && c->p->dist->pits && r % c->T == 0;
+}
+
+/* The land/ocean agreement summed over the processes (each counts its tiles). */
+static bool dist_sum(const ctx *c, int r) {
+    return c->p->dist && c->p->dist->sum && r % c->T == 0;
+}
+
+/* Is texel (x, y) of face f, at a level of r texels per face edge, in an owned tile? */
+static bool owned_at(const ctx *c, int r, int f, int x, int y) {
+    const int ts = r / c->T;
+    return owns(c, f, x / ts, y / ts);
+}
+
 static uint8_t mask_at(const ctx *c, int r, int f, long x, long y) {
     if (!c->mask) return c->p->type_mask;
     return c->mask[((size_t)f * r + (size_t)y) * r + (size_t)x];
@@ -474,13 +491,21 @@ static pg_status correct_subpass_all(ctx *c, int scale, int parity, level *L, pg
 }
 
 /* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. */
-static void reconstruct(const ctx *c, int scale, const level *L, float *R, float *Vc) {
+/* With owned_only, the texels of other processes' tiles (stale, perhaps never
+ * written) get R = Vc = 0; the pits hook exchanges what it reads of them. */
+static void reconstruct(const ctx *c, int scale, const level *L, float *R, float *Vc,
+                        bool owned_only) {
     const int r = L->r;
 #pragma omp parallel for schedule(static)
     for (int row = 0; row < 6 * r; row++) {
         int f = row / r, y = row % r;
         for (int x = 0; x < r; x++) {
             size_t i = at(L, f, x, y), j = ((size_t)f * r + y) * r + x;
+            if (owned_only && !owned_at(c, r, f, x, y)) {
+                R[j] = 0;
+                if (Vc) Vc[j] = 0;
+                continue;
+            }
             R[j] = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
             if (Vc) Vc[j] = L->V[i];
         }
@@ -502,28 +527,55 @@ static pg_pits_opts pits_opts(const ctx *c, pg_pits_method m) {
     pg_pits_opts_default(&o);
     o.method = m;
     o.epsilon = true;
+    o.descent = true; /* no flood order: MPI ranks reproduce it (docs/mpi.md) */
     o.has_sea_level = true;
     o.sea_level = c->ex->sea_level;
     return o;
 }
 
+/* Gain-pit on the owned tiles through the hook: R' = remove(R) there, Vc += R' - R. */
+static pg_status gainpit_dist(ctx *c, int r, const float *R, float *Vc, const pg_pits_opts *o,
+                              pg_error *err) {
+    size_t n = (size_t)6 * r * r;
+    float *R2 = malloc(n * sizeof *R2);
+    if (!R2) return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+    memcpy(R2, R, n * sizeof *R2);
+    const pg_planet_synth_dist *d = c->p->dist;
+    pg_status st = d->pits(d->user, (uint32_t)r, c->T, R2, o, err);
+    uint64_t changed = 0;
+    for (int f = 0; !st && f < 6; f++)
+        for (int y = 0; y < r; y++)
+            for (int x = 0; x < r; x++) {
+                size_t i = ((size_t)f * r + y) * r + x;
+                if (R2[i] == R[i] || !owned_at(c, r, f, x, y)) continue;
+                Vc[i] += R2[i] - R[i];
+                changed++;
+            }
+    c->info->pit_cells_changed += changed;
+    free(R2);
+    return st;
+}
+
 /* After a correction pass: the guide blend R <- w G + (1 - w) R (as V += w (G - R)),
- * then Gain-pit (R' pit-free, V += R' - R). */
+ * then Gain-pit (R' pit-free, V += R' - R). Distributed, Gain-pit runs through the
+ * pits hook on the owned tiles; without the hook (or at levels too coarse for the
+ * tiles) every process gathers the level and runs it whole (deterministic, so all
+ * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
+ * are refreshed by the next exchange before anything reads them. */
 static pg_status after_pass(ctx *c, int scale, level *L, pg_error *err) {
     bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
     if (!pits && !c->guide) return PG_OK;
-    /* Gain-pit is a whole-planet flood: not distributed; every process runs it on
-     * the whole level (deterministic, so all agree; docs/mpi.md). */
-    pg_status xs = pits ? exchange(c, scale, L, -1, err) : PG_OK;
-    if (xs) return xs;
     const int r = L->r;
+    bool gather = pits && !dist_pits(c, r);
+    pg_status xs = gather ? exchange(c, scale, L, -1, err) : PG_OK;
+    if (xs) return xs;
     size_t n = (size_t)6 * r * r;
     float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
     if (!R || !Vc) {
         free(R), free(Vc);
         return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
     }
-    reconstruct(c, scale, L, R, Vc);
+    reconstruct(c, scale, L, R, Vc, c->p->dist && !gather);
     pg_status st = PG_OK;
     if (c->guide) {
         float w = (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
@@ -539,9 +591,13 @@ static pg_status after_pass(ctx *c, int scale, level *L, pg_error *err) {
         pg_pits_topo topo;
         pg_pits_opts o = pits_opts(c, c->p->pit_method);
         pg_pits_result res;
-        st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
-        if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
-        if (!st) c->info->pit_cells_changed += res.raised + res.lowered;
+        if (dist_pits(c, r)) {
+            st = gainpit_dist(c, r, R, Vc, &o, err);
+        } else {
+            st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
+            if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
+            if (!st) c->info->pit_cells_changed += res.raised + res.lowered;
+        }
         c->info->pits_seconds += pg_synth_now() - t0;
     }
     if (!st) store_offsets(Vc, L);
@@ -557,6 +613,7 @@ static void land_agreement(ctx *c, int scale, const level *L) {
     for (int row = 0; row < 6 * r; row++) {
         int f = row / r, y = row % r;
         for (int x = 0; x < r; x++) {
+            if (dist_sum(c, r) && !owned_at(c, r, f, x, y)) continue;
             size_t i = at(L, f, x, y);
             float h = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
             float he =
@@ -564,7 +621,9 @@ static void land_agreement(ctx *c, int scale, const level *L) {
             agree += (h > c->ex->sea_level) == (he > c->ex->sea_level);
         }
     }
-    c->info->land_agreement = (double)agree / (6.0 * r * r);
+    double total = (double)agree;
+    if (dist_sum(c, r)) total = c->p->dist->sum(c->p->dist->user, total);
+    c->info->land_agreement = total / (6.0 * r * r);
 }
 
 static void progress(ctx *c, double units) {
@@ -584,7 +643,9 @@ static pg_status run_level(ctx *c, int scale, level *L, pg_error *err) {
         progress(c, units / p->synth.passes);
     }
     if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1) {
-        pg_status st = exchange(c, scale, L, -1, err); /* a coarse level: cheap */
+        /* distributed: each process counts its tiles and the hook sums the counts
+         * (without it, the coarse level is gathered) */
+        pg_status st = dist_sum(c, L->r) ? PG_OK : exchange(c, scale, L, -1, err);
         if (st) return st;
         land_agreement(c, scale, L);
     }
@@ -900,6 +961,29 @@ static void finest_heights(const ctx *c, const level *L, float *H, bool all) {
         deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL, all);
 }
 
+/* The final removal and the counts: on the whole planet in this process, or through
+ * the hooks on this process's tiles (H valid there only) when there are hooks for
+ * both. */
+static bool dist_final(const ctx *c) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    return dist_pits(c, (int)c->Nout) && (!c->p->pit_stats || d->stats);
+}
+
+static pg_status final_remove(const ctx *c, const pg_pits_topo *topo, float *H,
+                              const pg_pits_opts *o, pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (dist_final(c)) return d->pits(d->user, (uint32_t)c->Nout, c->T, H, o, err);
+    return pg_pits_remove(topo, H, o, NULL, err);
+}
+
+static pg_status final_stats(const ctx *c, const pg_pits_topo *topo, const float *H,
+                             const pg_pits_opts *o, const pg_pits_area *area, pg_pits_stats *out,
+                             pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (dist_final(c)) return d->stats(d->user, (uint32_t)c->Nout, c->T, H, o, area, out, err);
+    return pg_pits_stats_compute(topo, H, o, area, out, err);
+}
+
 static pg_status final_pits(ctx *c, float *H, pg_error *err) {
     const pg_planet_synth_params *p = c->p;
     pg_pits_topo topo;
@@ -910,11 +994,11 @@ static pg_status final_pits(ctx *c, float *H, pg_error *err) {
     area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
                     (6.0 * (double)c->Nout * (double)c->Nout);
     double t0 = pg_synth_now();
-    if (p->pit_stats) st = pg_pits_stats_compute(&topo, H, &o, &area, &c->info->before, err);
+    if (p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->before, err);
     double t1 = pg_synth_now();
-    if (!st && p->pits && p->final_pits) st = pg_pits_remove(&topo, H, &o, NULL, err);
+    if (!st && p->pits && p->final_pits) st = final_remove(c, &topo, H, &o, err);
     double t2 = pg_synth_now();
-    if (!st && p->pit_stats) st = pg_pits_stats_compute(&topo, H, &o, &area, &c->info->after, err);
+    if (!st && p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->after, err);
     c->info->final_pits_seconds = t2 - t1;
     c->info->pit_stats_seconds = (t1 - t0) + (pg_synth_now() - t2);
     return st;
@@ -977,15 +1061,18 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
         (void)tmpV;
     }
     if (!st) {
-        /* Distributed: the final pit removal and the depression counts are whole-planet
-         * steps, run by every process on the whole level (docs/mpi.md); otherwise the
-         * magnification needs the two texel rings around this process's tiles. */
-        bool all = (p->pits && p->final_pits) || p->pit_stats;
+        /* Distributed without the pits hooks: the final pit removal and the depression
+         * counts are whole-planet steps, run by every process on the whole level
+         * (docs/mpi.md); otherwise the magnification needs the two texel rings around
+         * this process's tiles, and the hooks exchange what the pits need. */
+        bool all = !dist_final(&c) && ((p->pits && p->final_pits) || p->pit_stats);
         st = exchange(&c, 0, &L, all ? -1 : 2, err);
+        if (!st) {
+            border_refresh(&c.bm, &L); /* the magnification reads across face seams */
+            finest_heights(&c, &L, H, !p->dist || all);
+        }
     }
     if (!st) {
-        border_refresh(&c.bm, &L); /* the magnification reads across face seams */
-        finest_heights(&c, &L, H, !p->dist || (p->pits && p->final_pits) || p->pit_stats);
         free(L.V); /* S stays for the albedo */
         L.V = NULL;
         st = final_pits(&c, H, err);

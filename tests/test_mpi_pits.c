@@ -1,8 +1,10 @@
 /* test_mpi_pits.c - the distributed Barnes (2016) depression fill (pg_mpi_pits_fill)
  * gives, on every rank's tiles, exactly the serial fill of pg_pits_remove, for 1, 2
  * and 4 ranks and tiles of several sizes, on a cube-sphere DEM full of pits: the plain
- * fill, and with epsilon the minimal epsilon-surface (reached in rounds of ring
- * exchanges, which must take more than one round on these DEMs).
+ * fill, with epsilon the minimal epsilon-surface (reached in rounds of ring
+ * exchanges, which must take more than one round on these DEMs), breach and hybrid
+ * along the descent tree (rounds of tokens), and the depression statistics
+ * (pg_mpi_pits_stats: the same counts as pg_pits_stats_compute).
  *
  * The test program is its own MPI worker: the cmocka tests run
  * `mpirun -np N THIS --worker n T seed eps`; each rank builds the same DEM, fills it both
@@ -82,9 +84,32 @@ static int worker(uint32_t n, int T, uint32_t seed, int mode) {
         printf("ranks %d tiles %d mode %d: differing cells %.0f, raised cells %.0f, lowered "
                "cells %.0f, labels %.0f, epsilon rounds %d, breach rounds %d\n",
                P, nt, mode, diff, raised, lowered, labels, info.eps_rounds, info.breach_rounds);
+    /* the depression statistics of the original DEM, serial and distributed */
+    int stats_ok = 1;
+    if (mode == 0 && !rc) {
+        for (size_t i = 0; i < nc; i++)
+            h[i] = dem((uint32_t)i, n, seed);
+        pg_pits_stats a, b;
+        pg_pits_area area = {.constant = 2.5};
+        rc = pg_pits_stats_compute(&topo, h, &o, &area, &a, &err) ||
+             pg_mpi_pits_stats(m, T, n, h, &o, &area, &b, &err);
+        rc = pg_mpi_max_int(m, rc);
+        stats_ok =
+            !rc && a.depressions == b.depressions && a.depressions > 0 &&
+            a.depression_cells == b.depression_cells && a.max_depth_m == b.max_depth_m &&
+            a.sinks == b.sinks &&
+            fabs(a.depression_volume_m3 - b.depression_volume_m3) <= 1e-9 * a.depression_volume_m3;
+        if (me == 0)
+            printf("stats: serial %llu depressions %llu cells deepest %.4f volume %.6g, "
+                   "distributed %llu %llu %.4f %.6g: %s\n",
+                   (unsigned long long)a.depressions, (unsigned long long)a.depression_cells,
+                   a.max_depth_m, a.depression_volume_m3, (unsigned long long)b.depressions,
+                   (unsigned long long)b.depression_cells, b.max_depth_m, b.depression_volume_m3,
+                   stats_ok ? "same" : "DIFFERENT");
+    }
     free(h), free(ref);
     pg_mpi_finalize(m);
-    return rc ? 2 : (diff == 0 && raised + lowered > 0 ? 0 : 1);
+    return rc ? 2 : (diff == 0 && raised + lowered > 0 && stats_ok ? 0 : 1);
 }
 
 static int run_workers(int np, uint32_t n, int T, uint32_t seed, int mode) {

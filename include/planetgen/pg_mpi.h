@@ -76,7 +76,8 @@ typedef struct pg_mpi_stats {
     double gather_bytes[PG_MPI_MAX_SCALES]; /* own tiles sent in allgathers (width -1) */
     int halo_messages[PG_MPI_MAX_SCALES];
     int exchanges[PG_MPI_MAX_SCALES];
-    double seconds; /* inside exchanges, waiting included */
+    double seconds;      /* inside exchanges, waiting included */
+    double pits_seconds; /* inside the distributed pit removal and statistics */
 } pg_mpi_stats;
 
 /* Fill the synthesis hooks for a planet of `tiles` x `tiles` tiles per face. The hooks
@@ -119,6 +120,13 @@ pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_
  * for the fill, plus o->descent and o->epsilon for breach and hybrid. Collective. */
 pg_status pg_mpi_pits_remove(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                              pg_mpi_pits_info *info, pg_error *err);
+
+/* pg_pits_stats_compute over the ranks' tiles (h: owned tiles valid): the counts and
+ * the deepest cell are exactly the serial ones; the area and volume sums may differ in
+ * their last bits (another summation order). Preconditions as for the fill. Every
+ * rank gets the totals. Collective. */
+pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, const pg_pits_opts *o,
+                            const pg_pits_area *area, pg_pits_stats *out, pg_error *err);
 
 #ifdef __cplusplus
 }

@@ -138,6 +138,19 @@ typedef struct pg_planet_synth_dist {
     void *user;
     bool (*owns)(void *user, int face, int tx, int ty);
     pg_status (*exchange)(void *user, const pg_planet_level *L, int width, pg_error *err);
+    /* Optional. Pit removal on a cube level of n texels per face edge in tiles x tiles
+     * tiles (pg_pits cube ids): only the owned tiles of h need be valid and only they
+     * come out right, bit-identical to pg_pits_remove (pg_mpi_pits_remove). When set,
+     * Gain-pit (at levels the tiles divide) and the final pass run through it and the
+     * level is not gathered for them. */
+    pg_status (*pits)(void *user, uint32_t n, int tiles, float *h, const pg_pits_opts *o,
+                      pg_error *err);
+    /* Optional, with pits: the depression statistics of such a level
+     * (pg_mpi_pits_stats); every process gets the totals. */
+    pg_status (*stats)(void *user, uint32_t n, int tiles, const float *h, const pg_pits_opts *o,
+                       const pg_pits_area *area, pg_pits_stats *out, pg_error *err);
+    /* Optional: the sum of v over the processes (the land/ocean agreement's count). */
+    double (*sum)(void *user, double v);
 } pg_planet_synth_dist;
 
 typedef struct pg_planet_synth_params {
