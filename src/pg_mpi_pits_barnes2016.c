@@ -26,12 +26,15 @@
  * (the test compares them for 1, 2 and 4 ranks).
  * With epsilon: the minimal epsilon-surface W (pg_pits_planchon2002_minimal_eps.c) is
  * the unique solution of W(c) = max(F(c), up(min over neighbours W(n))) with F the
- * plain fill just computed. Each round, every rank receives the ring's current values
- * and floods its own cells from the ring and its sinks with that equation (a Dijkstra
- * flood; ring cells are fixed sources). Round 1 starts from F <= W, each round's ring
- * is at least the last one's and at most W, so the values only rise, stay below W and
- * stop; when no rank's cells change, every cell satisfies the equation, whose only
- * solution is W. The ulps change only on flats, so a few rounds suffice. */
+ * plain fill just computed. Each round, every rank floods its own cells from the ring
+ * and its sinks with that equation (a Dijkstra flood; ring cells are fixed sources),
+ * then receives the ring's new values. The ring starts at +inf (no known way out):
+ * every value is then the cost of a real path, an upper bound of W that only falls,
+ * and a way out reaches a cell after as many rounds as its best path crosses rank
+ * boundaries; when no rank's cells change, every cell satisfies the equation, whose
+ * only solution is W. (Starting from F, a lower bound, also converges, but a flat on
+ * a boundary then climbs by one ulp per round on both sides: 74 rounds on the default
+ * planet instead of a handful.) */
 #include "planetgen/pg_mpi.h"
 
 #include "pg_pits_internal.h"
@@ -99,11 +102,26 @@ typedef struct dfill {
     float *h;
     double sea;
     uint32_t *label;
+    int ln, lts; /* log2 of n and ts when both are powers of two, else -1 */
 } dfill;
 
+/* The tile of a cell: called for every neighbour of every cell, so shifts when the
+ * sizes allow (divisions took a third of the distributed fill's time). */
 static int tile_of(const dfill *d, uint32_t id) {
+    uint32_t T = (uint32_t)d->T;
+    if (d->ln >= 0) {
+        uint32_t f = id >> (2 * d->ln), y = (id >> d->ln) & (d->n - 1), x = id & (d->n - 1);
+        return (int)(f * T * T + (y >> d->lts) * T + (x >> d->lts));
+    }
     uint32_t per = d->n * d->n, f = id / per, y = id % per / d->n, x = id % d->n;
-    return (int)(f * (uint32_t)d->T * (uint32_t)d->T + y / d->ts * (uint32_t)d->T + x / d->ts);
+    return (int)(f * T * T + y / d->ts * T + x / d->ts);
+}
+
+static int log2_exact(uint32_t v) {
+    int l = 0;
+    while ((1u << l) < v)
+        l++;
+    return (1u << l) == v ? l : -1;
 }
 
 static uint32_t tile_cell(const dfill *d, int t, uint32_t x, uint32_t y) {
@@ -421,17 +439,65 @@ static int solve_and_share(dfill *d, const fedges *ev, uint32_t **labels_out, fl
 typedef struct eps_ctx {
     const dfill *d;
     int t0, t1;
+    uint8_t *closed; /* owned cells already at their floor this round */
 } eps_ctx;
+
+static int eps_owned(const eps_ctx *e, uint32_t id) {
+    int t = tile_of(e->d, id);
+    return t >= e->t0 && t < e->t1;
+}
 
 static int eps_settable(const void *ctx, uint32_t id) {
     const eps_ctx *e = ctx;
-    int t = tile_of(e->d, id);
-    return t >= e->t0 && t < e->t1 && !sink(e->d, id);
+    return eps_owned(e, id) && !sink(e->d, id) && !e->closed[id];
+}
+
+/* A cell's value as a way out: sinks take water at any height. */
+static float eps_value(const dfill *d, uint32_t id) {
+    return sink(d, id) ? -INFINITY : d->h[id];
+}
+
+/* Step 1 of a round, linear: owned cells with a strictly descending chain (in floor)
+ * to a sink or to a ring cell below them keep their floor (as in the serial
+ * pg_pits_planchon2002_minimal_eps.c); q gets nothing, the FIFO does the work. */
+static int eps_close(const dfill *d, eps_ctx *e, const float *floor_) {
+    pits_fifo f = {0};
+    uint32_t nb[8];
+    for (int t = e->t0; t < e->t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                uint32_t id = tile_cell(d, t, x, y);
+                e->closed[id] = 0;
+                if (sink(d, id)) continue;
+                d->h[id] = INFINITY;
+                int nn = pg_pits_neighbours(d->t, id, nb);
+                for (int j = 0; j < nn; j++)
+                    if ((!eps_owned(e, nb[j]) || sink(d, nb[j])) &&
+                        eps_value(d, nb[j]) < floor_[id]) {
+                        e->closed[id] = 1;
+                        d->h[id] = floor_[id];
+                        pits_fifo_push(&f, id);
+                        break;
+                    }
+            }
+    while (!pits_fifo_empty(&f) && !f.oom) {
+        uint32_t c = pits_fifo_pop(&f);
+        int nn = pg_pits_neighbours(d->t, c, nb);
+        for (int j = 0; j < nn; j++)
+            if (eps_settable(e, nb[j]) && floor_[c] < floor_[nb[j]]) {
+                e->closed[nb[j]] = 1;
+                d->h[nb[j]] = floor_[nb[j]];
+                pits_fifo_push(&f, nb[j]);
+            }
+    }
+    int oom = f.oom;
+    pits_fifo_free(&f);
+    return oom;
 }
 
 /* One round: flood this rank's cells from the ring and the sinks. Returns -1 when out
  * of memory, else whether any owned cell changed. */
-static int eps_round(dfill *d, const eps_ctx *e, const float *floor_) {
+static int eps_round(dfill *d, eps_ctx *e, const float *floor_) {
     pits_heap q = {0};
     uint32_t nb[8];
     int changed = 0;
@@ -440,20 +506,24 @@ static int eps_round(dfill *d, const eps_ctx *e, const float *floor_) {
     size_t k = 0;
     for (int t = e->t0; t < e->t1; t++)
         for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++)
+                prev[k++] = d->h[tile_cell(d, t, x, y)];
+    int oom = eps_close(d, e, floor_);
+    for (int t = e->t0; !oom && t < e->t1; t++) /* step 2: the rest, from its border */
+        for (uint32_t y = 0; y < d->ts; y++)
             for (uint32_t x = 0; x < d->ts; x++) {
                 uint32_t id = tile_cell(d, t, x, y);
-                prev[k++] = d->h[id];
-                if (sink(d, id)) continue;
+                if (!eps_settable(e, id)) continue;
                 float w = INFINITY;
                 int nn = pg_pits_neighbours(d->t, id, nb);
-                for (int j = 0; j < nn; j++) /* fixed sources: sinks and the ring */
+                for (int j = 0; j < nn; j++) /* fixed: sinks, the ring, closed cells */
                     if (!eps_settable(e, nb[j]))
-                        w = fminf(w, fmaxf(floor_[id], pits_up(eff(d, nb[j]))));
+                        w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
                 d->h[id] = w;
                 if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
             }
     pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
-    int oom = q.oom || pits_meps_flood(&m, &q);
+    oom = oom || q.oom || pits_meps_flood(&m, &q);
     k = 0;
     for (int t = e->t0; !oom && t < e->t1; t++)
         for (uint32_t y = 0; y < d->ts; y++)
@@ -467,23 +537,26 @@ static int eps_round(dfill *d, const eps_ctx *e, const float *floor_) {
 static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg_error *err) {
     double t_start = MPI_Wtime();
     float *floor_ = malloc(d->t->ncells * sizeof *floor_); /* only owned cells are read */
-    int bad = !floor_, more = 1;
-    eps_ctx e = {d, t0, t1};
+    eps_ctx e = {d, t0, t1, calloc(d->t->ncells, 1)};
+    int bad = !floor_ || !e.closed, more = 1;
     for (int t = t0; !bad && t < t1; t++)
         for (uint32_t y = 0; y < d->ts; y++)
             for (uint32_t x = 0; x < d->ts; x++) {
                 uint32_t id = tile_cell(d, t, x, y);
                 floor_[id] = d->h[id];
             }
+    /* Start the ring from above: +inf (no known way out) except at sinks. */
+    for (uint64_t i = 0; !bad && i < d->t->ncells; i++) {
+        int t = tile_of(d, (uint32_t)i);
+        if ((t < t0 || t >= t1) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
+    }
     while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
-        pg_status st = exchange_ring(d, err);
-        bad = st != PG_OK;
-        int r = bad ? -1 : eps_round(d, &e, floor_);
-        bad = r < 0;
+        int r = eps_round(d, &e, floor_);
+        bad = r < 0 || exchange_ring(d, err) != PG_OK;
         more = pg_mpi_max_int(d->m, r > 0);
         info->eps_rounds++;
     }
-    free(floor_);
+    free(floor_), free(e.closed);
     info->eps_seconds = MPI_Wtime() - t_start;
     return bad ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (epsilon rounds)")
                : PG_OK;
@@ -498,7 +571,11 @@ static pg_status dfill_init(dfill *d, pg_pits_topo *topo, pg_mpi *m, int tiles, 
     if (!st && (tiles < 1 || n % (uint32_t)tiles))
         st = pg_error_set(err, PG_ERR_BADINPUT, "pits (MPI): %u texels do not split into %d tiles",
                           n, tiles);
-    if (!st) *d = (dfill){m, topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL};
+    if (!st) {
+        *d = (dfill){m, topo, tiles, n, n / (uint32_t)tiles, h, o->sea_level, NULL, -1, -1};
+        d->ln = log2_exact(n), d->lts = log2_exact(d->ts);
+        if (d->lts < 0) d->ln = -1;
+    }
     return st;
 }
 
@@ -895,14 +972,18 @@ pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, co
     if (!st) st = dfill_init(&d, &topo, m, tiles, n, fill, o, err);
     memset(out, 0, sizeof *out);
     pg_mpi_pits_info info;
-    if (!st) {
-        memcpy(fill, h, nc * sizeof *fill), memcpy(efill, h, nc * sizeof *efill);
-        st = pg_mpi_pits_fill(m, tiles, n, fill, &f, &info, err);
-    }
-    f.epsilon = true;
-    if (!st) st = pg_mpi_pits_fill(m, tiles, n, efill, &f, &info, err);
     const int nt = 6 * tiles * tiles, P = pg_mpi_size(m), me = pg_mpi_rank(m);
     const int t0 = pg_mpi_tile_first(nt, P, me), t1 = pg_mpi_tile_first(nt, P, me + 1);
+    if (!st) {
+        memcpy(fill, h, nc * sizeof *fill);
+        st = pg_mpi_pits_fill(m, tiles, n, fill, &f, &info, err);
+    }
+    if (!st) { /* the epsilon-fill: the same rounds as the fill's, from the plain fill */
+        memcpy(efill, fill, nc * sizeof *efill);
+        dfill de = d;
+        de.h = efill;
+        st = eps_rounds(&de, t0, t1, &info, err);
+    }
     dtree e = {.d = &d, .t0 = t0, .t1 = t1};
     double sinks = 0;
     if (!st) {
