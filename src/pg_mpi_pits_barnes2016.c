@@ -534,11 +534,46 @@ static int eps_round(dfill *d, eps_ctx *e, const float *floor_) {
     return oom ? -1 : changed;
 }
 
+/* A later round: the ring's values only fell, so flood on from the owned cells next to
+ * ring cells that fell (before: every value before the exchange); the others keep
+ * their values, which are upper bounds the flood only lowers. Returns -1 when out of
+ * memory, else whether an owned cell changed. */
+static int eps_update(dfill *d, eps_ctx *e, const float *floor_, const float *before) {
+    pits_heap q = {0};
+    uint32_t nb[8];
+    for (int t = e->t0; t < e->t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                uint32_t id = tile_cell(d, t, x, y);
+                if (!eps_settable(e, id)) continue;
+                int nn = pg_pits_neighbours(d->t, id, nb);
+                float w = d->h[id];
+                for (int j = 0; j < nn; j++)
+                    if (!eps_owned(e, nb[j]) && d->h[nb[j]] < before[nb[j]])
+                        w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
+                if (w < d->h[id]) {
+                    d->h[id] = w;
+                    pits_heap_push(&q, pits_key(w, id));
+                }
+            }
+    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
+    int oom = q.oom || pits_meps_flood(&m, &q), changed = 0;
+    pits_heap_free(&q);
+    for (int t = e->t0; !oom && !changed && t < e->t1; t++)
+        for (uint32_t y = 0; y < d->ts; y++)
+            for (uint32_t x = 0; x < d->ts; x++) {
+                uint32_t id = tile_cell(d, t, x, y);
+                changed |= d->h[id] != before[id];
+            }
+    return oom ? -1 : changed;
+}
+
 static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg_error *err) {
     double t_start = MPI_Wtime();
     float *floor_ = malloc(d->t->ncells * sizeof *floor_); /* only owned cells are read */
+    float *before = malloc(d->t->ncells * sizeof *before);
     eps_ctx e = {d, t0, t1, calloc(d->t->ncells, 1)};
-    int bad = !floor_ || !e.closed, more = 1;
+    int bad = !floor_ || !e.closed || !before, more = 1;
     for (int t = t0; !bad && t < t1; t++)
         for (uint32_t y = 0; y < d->ts; y++)
             for (uint32_t x = 0; x < d->ts; x++) {
@@ -551,12 +586,14 @@ static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg
         if ((t < t0 || t >= t1) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
     }
     while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
-        int r = eps_round(d, &e, floor_);
+        int r =
+            info->eps_rounds == 0 ? eps_round(d, &e, floor_) : eps_update(d, &e, floor_, before);
+        if (r >= 0) memcpy(before, d->h, d->t->ncells * sizeof *before);
         bad = r < 0 || exchange_ring(d, err) != PG_OK;
         more = pg_mpi_max_int(d->m, r > 0);
         info->eps_rounds++;
     }
-    free(floor_), free(e.closed);
+    free(floor_), free(e.closed), free(before);
     info->eps_seconds = MPI_Wtime() - t_start;
     return bad ? pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory (epsilon rounds)")
                : PG_OK;
