@@ -130,6 +130,13 @@ static uint32_t tile_cell(const dfill *d, int t, uint32_t x, uint32_t y) {
     return f * d->n * d->n + (ty * d->ts + y) * d->n + tx * d->ts + x;
 }
 
+/* Every cell id of the tiles [t0, t1): tile by tile, row by row. */
+#define FOR_TILE_CELLS(d, t0, t1, id)                                                              \
+    for (int t_ = (t0); t_ < (t1); t_++)                                                           \
+        for (uint32_t y_ = 0; y_ < (d)->ts; y_++)                                                  \
+            for (uint32_t x_ = 0, id = tile_cell((d), t_, 0, y_); x_ < (d)->ts;                    \
+                 x_++, id = tile_cell((d), t_, x_, y_))
+
 static bool sink(const dfill *d, uint32_t id) {
     return d->h[id] <= d->sea;
 }
@@ -463,23 +470,19 @@ static float eps_value(const dfill *d, uint32_t id) {
 static int eps_close(const dfill *d, eps_ctx *e, const float *floor_) {
     pits_fifo f = {0};
     uint32_t nb[8];
-    for (int t = e->t0; t < e->t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++) {
-                uint32_t id = tile_cell(d, t, x, y);
-                e->closed[id] = 0;
-                if (sink(d, id)) continue;
-                d->h[id] = INFINITY;
-                int nn = pg_pits_neighbours(d->t, id, nb);
-                for (int j = 0; j < nn; j++)
-                    if ((!eps_owned(e, nb[j]) || sink(d, nb[j])) &&
-                        eps_value(d, nb[j]) < floor_[id]) {
-                        e->closed[id] = 1;
-                        d->h[id] = floor_[id];
-                        pits_fifo_push(&f, id);
-                        break;
-                    }
+    FOR_TILE_CELLS(d, e->t0, e->t1, id) {
+        e->closed[id] = 0;
+        if (sink(d, id)) continue;
+        d->h[id] = INFINITY;
+        int nn = pg_pits_neighbours(d->t, id, nb);
+        for (int j = 0; j < nn; j++)
+            if ((!eps_owned(e, nb[j]) || sink(d, nb[j])) && eps_value(d, nb[j]) < floor_[id]) {
+                e->closed[id] = 1;
+                d->h[id] = floor_[id];
+                pits_fifo_push(&f, id);
+                break;
             }
+    }
     while (!pits_fifo_empty(&f) && !f.oom) {
         uint32_t c = pits_fifo_pop(&f);
         int nn = pg_pits_neighbours(d->t, c, nb);
@@ -500,72 +503,55 @@ static int eps_close(const dfill *d, eps_ctx *e, const float *floor_) {
 static int eps_round(dfill *d, eps_ctx *e, const float *floor_) {
     pits_heap q = {0};
     uint32_t nb[8];
-    int changed = 0;
-    float *prev = malloc(((size_t)(e->t1 - e->t0) * d->ts * d->ts + 1) * sizeof *prev);
-    if (!prev) return -1;
-    size_t k = 0;
-    for (int t = e->t0; t < e->t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++)
-                prev[k++] = d->h[tile_cell(d, t, x, y)];
     int oom = eps_close(d, e, floor_);
-    for (int t = e->t0; !oom && t < e->t1; t++) /* step 2: the rest, from its border */
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++) {
-                uint32_t id = tile_cell(d, t, x, y);
-                if (!eps_settable(e, id)) continue;
-                float w = INFINITY;
-                int nn = pg_pits_neighbours(d->t, id, nb);
-                for (int j = 0; j < nn; j++) /* fixed: sinks, the ring, closed cells */
-                    if (!eps_settable(e, nb[j]))
-                        w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
-                d->h[id] = w;
-                if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
-            }
+    FOR_TILE_CELLS(d, e->t0, e->t1, id) { /* step 2: the rest, from its border */
+        if (oom || !eps_settable(e, id)) continue;
+        float w = INFINITY;
+        int nn = pg_pits_neighbours(d->t, id, nb);
+        for (int j = 0; j < nn; j++) /* fixed: sinks, the ring, closed cells */
+            if (!eps_settable(e, nb[j]))
+                w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
+        d->h[id] = w;
+        if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
+    }
     pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
     oom = oom || q.oom || pits_meps_flood(&m, &q);
-    k = 0;
-    for (int t = e->t0; !oom && t < e->t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++)
-                changed |= memcmp(&prev[k++], &d->h[tile_cell(d, t, x, y)], sizeof(float)) != 0;
     pits_heap_free(&q);
-    free(prev);
-    return oom ? -1 : changed;
+    return oom ? -1 : 0;
 }
 
 /* A later round: the ring's values only fell, so flood on from the owned cells next to
  * ring cells that fell (before: every value before the exchange); the others keep
  * their values, which are upper bounds the flood only lowers. Returns -1 when out of
- * memory, else whether an owned cell changed. */
+ * memory. */
 static int eps_update(dfill *d, eps_ctx *e, const float *floor_, const float *before) {
     pits_heap q = {0};
     uint32_t nb[8];
-    for (int t = e->t0; t < e->t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++) {
-                uint32_t id = tile_cell(d, t, x, y);
-                if (!eps_settable(e, id)) continue;
-                int nn = pg_pits_neighbours(d->t, id, nb);
-                float w = d->h[id];
-                for (int j = 0; j < nn; j++)
-                    if (!eps_owned(e, nb[j]) && d->h[nb[j]] < before[nb[j]])
-                        w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
-                if (w < d->h[id]) {
-                    d->h[id] = w;
-                    pits_heap_push(&q, pits_key(w, id));
-                }
-            }
+    FOR_TILE_CELLS(d, e->t0, e->t1, id) {
+        if (!eps_settable(e, id)) continue;
+        int nn = pg_pits_neighbours(d->t, id, nb);
+        float w = d->h[id];
+        for (int j = 0; j < nn; j++)
+            if (!eps_owned(e, nb[j]) && d->h[nb[j]] < before[nb[j]])
+                w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
+        if (w < d->h[id]) {
+            d->h[id] = w;
+            pits_heap_push(&q, pits_key(w, id));
+        }
+    }
     pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
-    int oom = q.oom || pits_meps_flood(&m, &q), changed = 0;
+    int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
-    for (int t = e->t0; !oom && !changed && t < e->t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++) {
-                uint32_t id = tile_cell(d, t, x, y);
-                changed |= d->h[id] != before[id];
-            }
-    return oom ? -1 : changed;
+    return oom ? -1 : 0;
+}
+
+/* Did any owned cell change since `before`? */
+static int owned_changed(const dfill *d, int t0, int t1, const float *before) {
+    int changed = 0;
+    FOR_TILE_CELLS(d, t0, t1, id) {
+        changed |= memcmp(&d->h[id], &before[id], sizeof(float)) != 0;
+    }
+    return changed;
 }
 
 static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg_error *err) {
@@ -574,23 +560,20 @@ static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg
     float *before = malloc(d->t->ncells * sizeof *before);
     eps_ctx e = {d, t0, t1, calloc(d->t->ncells, 1)};
     int bad = !floor_ || !e.closed || !before, more = 1;
-    for (int t = t0; !bad && t < t1; t++)
-        for (uint32_t y = 0; y < d->ts; y++)
-            for (uint32_t x = 0; x < d->ts; x++) {
-                uint32_t id = tile_cell(d, t, x, y);
-                floor_[id] = d->h[id];
-            }
+    if (!bad) memcpy(floor_, d->h, d->t->ncells * sizeof *floor_);
     /* Start the ring from above: +inf (no known way out) except at sinks. */
     for (uint64_t i = 0; !bad && i < d->t->ncells; i++) {
         int t = tile_of(d, (uint32_t)i);
         if ((t < t0 || t >= t1) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
     }
+    if (!bad) memcpy(before, d->h, d->t->ncells * sizeof *before);
     while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
         int r =
             info->eps_rounds == 0 ? eps_round(d, &e, floor_) : eps_update(d, &e, floor_, before);
+        int changed = r >= 0 && owned_changed(d, t0, t1, before);
         if (r >= 0) memcpy(before, d->h, d->t->ncells * sizeof *before);
         bad = r < 0 || exchange_ring(d, err) != PG_OK;
-        more = pg_mpi_max_int(d->m, r > 0);
+        more = pg_mpi_max_int(d->m, changed);
         info->eps_rounds++;
     }
     free(floor_), free(e.closed), free(before);
@@ -705,11 +688,7 @@ static int owned(const dtree *e, uint32_t id) {
     return t >= e->t0 && t < e->t1;
 }
 
-#define DT_FOR_OWNED(e, id)                                                                        \
-    for (int t_ = (e)->t0; t_ < (e)->t1; t_++)                                                     \
-        for (uint32_t y_ = 0; y_ < (e)->d->ts; y_++)                                               \
-            for (uint32_t x_ = 0, id = tile_cell((e)->d, t_, 0, y_); x_ < (e)->d->ts;              \
-                 x_++, id = tile_cell((e)->d, t_, x_, y_))
+#define DT_FOR_OWNED(e, id) FOR_TILE_CELLS((e)->d, (e)->t0, (e)->t1, id)
 
 /* Parents and pits of the owned cells; W in w (owned and ring), heights in orig. */
 static void dt_tree(dtree *e, const float *w) {
