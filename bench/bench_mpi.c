@@ -19,7 +19,7 @@
 #define MAX_SCALES 16
 
 typedef struct figures {
-    double synth, total, rss[8], halo[MAX_SCALES], gather[MAX_SCALES];
+    double synth, total, rss[8], halo[MAX_SCALES], gather[MAX_SCALES], pits_bytes;
     int nrss, nscales;
 } figures;
 
@@ -93,6 +93,7 @@ static int run(const char *cli, int ranks, int threads, const char *size, const 
     if (!fig->nrss) fig->rss[0] = json_number(s, "peak_rss_bytes"), fig->nrss = 1;
     fig->nscales = json_array(s, "halo_bytes_per_scale", fig->halo, MAX_SCALES);
     json_array(s, "allgather_bytes_per_scale", fig->gather, MAX_SCALES);
+    fig->pits_bytes = json_number(s, "pits_bytes");
     free(s);
     return 0;
 }
@@ -110,6 +111,8 @@ static void print_bytes(const figures *f) {
     printf("  bytes sent per level, all ranks (scale 0 = finest): tile edges | level allgathers\n");
     for (int s = f->nscales - 1; s >= 0; s--)
         printf("    scale %d: %10.0f | %10.0f\n", s, f->halo[s], f->gather[s]);
+    if (f->pits_bytes > 0)
+        printf("  distributed pit removal and counts, all levels: %.0f bytes\n", f->pits_bytes);
 }
 
 int main(int argc, char **argv) {

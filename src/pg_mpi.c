@@ -395,6 +395,10 @@ static pg_status stats_hook(void *user, uint32_t n, int tiles, const float *h,
     return st;
 }
 
+void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes) {
+    if (m) m->stats.pits_bytes += bytes;
+}
+
 static double sum_hook(void *user, double v) {
     return pg_mpi_sum_double(user, v);
 }
@@ -468,6 +472,10 @@ double pg_mpi_sum_double(pg_mpi *m, double v) {
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     (void)m, (void)tiles;
     memset(d, 0, sizeof *d);
+}
+
+void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes) {
+    (void)m, (void)bytes;
 }
 
 static const pg_mpi_stats no_stats;

@@ -236,9 +236,11 @@ static pg_status exchange_cells(dfill *d, void *arr, size_t elem, pg_error *err)
                       &req[nreq++]);
     }
     if (!oom) MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
-    for (int q = 0; !oom && q < P; q++)
+    for (int q = 0; !oom && q < P; q++) {
+        pg_mpi_note_pits_bytes(d->m, (double)(send[q].n * elem));
         for (size_t k = 0; k < recv[q].n; k++)
             memcpy(a + (size_t)recv[q].a[k] * elem, buf[P + q] + k * elem, elem);
+    }
     for (int q = 0; send && recv && buf && q < P; q++) {
         free(send[q].a), free(recv[q].a);
         free(buf[q]), free(buf[P + q]);
@@ -395,6 +397,7 @@ static fedge *gather_edges(dfill *d, const fedges *ev, size_t *total, int *oom) 
     if (!bad)
         MPI_Gatherv(ev->e, mine, MPI_UINT32_T, all, counts, counts ? counts + P : NULL,
                     MPI_UINT32_T, 0, MPI_COMM_WORLD);
+    if (!bad && me != 0) pg_mpi_note_pits_bytes(d->m, 4.0 * mine);
     *oom = bad;
     *total = (size_t)sum / 3;
     free(counts);
@@ -436,6 +439,8 @@ static int solve_and_share(dfill *d, const fedges *ev, uint32_t **labels_out, fl
     if (!bad && !oom) {
         MPI_Bcast(labels, (int)nl, MPI_UINT32_T, 0, MPI_COMM_WORLD);
         MPI_Bcast(levels, (int)nl, MPI_FLOAT, 0, MPI_COMM_WORLD);
+        if (pg_mpi_rank(d->m) == 0) /* what rank 0 sends to each of the others */
+            pg_mpi_note_pits_bytes(d->m, 8.0 * (double)nl * (pg_mpi_size(d->m) - 1));
     }
     *labels_out = labels, *levels_out = levels, *nl_out = nl;
     return bad || oom;
@@ -899,6 +904,7 @@ static double *gather_doubles(pg_mpi *m, const double *mine, size_t n, size_t *t
     if (!*bad)
         MPI_Gatherv(mine, cnt, MPI_DOUBLE, all, counts, counts ? counts + P : NULL, MPI_DOUBLE, 0,
                     MPI_COMM_WORLD);
+    if (!*bad && me != 0) pg_mpi_note_pits_bytes(m, 8.0 * cnt);
     free(counts);
     *total = (size_t)sum;
     return all;

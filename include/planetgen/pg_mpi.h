@@ -78,7 +78,11 @@ typedef struct pg_mpi_stats {
     int exchanges[PG_MPI_MAX_SCALES];
     double seconds;      /* inside exchanges, waiting included */
     double pits_seconds; /* inside the distributed pit removal and statistics */
+    double pits_bytes;   /* sent by them: rings, spill graphs, label tables */
 } pg_mpi_stats;
+
+/* Count bytes the distributed pit removal sent (pg_mpi_pits_barnes2016.c). */
+void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes);
 
 /* Fill the synthesis hooks for a planet of `tiles` x `tiles` tiles per face. The hooks
  * hold m; statistics accumulate in pg_mpi_stats_get. TEST ONLY: with the environment

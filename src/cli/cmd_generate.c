@@ -364,18 +364,24 @@ static void report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
         total += halo[s] + gath[s];
     }
     double xsec = pg_mpi_sum_double(g->mpi, ms->seconds) / g->size;
+    double pbytes = pg_mpi_sum_double(g->mpi, ms->pits_bytes);
+    double psec = pg_mpi_sum_double(g->mpi, ms->pits_seconds) / g->size;
+    total += pbytes;
     if (g->rank == 0 && rss) {
         for (int q = 0; q < g->size; q++)
             rss_max = rss[q] > rss_max ? rss[q] : rss_max;
         pg_cli_info(cli,
-                    "mpi      %d ranks; %.2f MB communicated (tile edges and level allgathers); "
-                    "%.2f s per rank in exchanges; peak RSS per rank up to %.0f MB\n",
-                    g->size, total / 1e6, xsec, rss_max / 1e6);
+                    "mpi      %d ranks; %.2f MB communicated (tile edges, level allgathers, "
+                    "%.2f MB by the distributed pits); %.2f s per rank in exchanges, %.2f s in "
+                    "the pits; peak RSS per rank up to %.0f MB\n",
+                    g->size, total / 1e6, pbytes / 1e6, xsec, psec, rss_max / 1e6);
         pg_json *r = pg_cli_report(cli);
         pg_json *o = r ? pg_json_set_object(r, "mpi") : NULL;
         if (o) {
             pg_json_set_number(o, "ranks", g->size);
             pg_json_set_number(o, "exchange_seconds_mean", xsec);
+            pg_json_set_number(o, "pits_seconds_mean", psec);
+            pg_json_set_number(o, "pits_bytes", pbytes);
             pg_json *a = pg_json_set_array(o, "peak_rss_bytes_per_rank");
             for (int q = 0; q < g->size; q++)
                 pg_json_push_number(a, rss[q]);
