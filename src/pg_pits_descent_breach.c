@@ -49,43 +49,46 @@ typedef struct descent {
     const pg_pits_topo *t;
     float *h;
     const uint8_t *st;
-    const float *w;    /* the minimal epsilon-surface */
+    float *v;          /* first W, the minimal epsilon-surface; then the incoming tokens */
     const float *fill; /* without epsilon: the minimal fill, else NULL */
-    uint32_t *parent;  /* UINT32_MAX for sinks */
+    uint8_t *slot;     /* the parent: which of the cell's neighbours (memory: 1 byte) */
     uint8_t *pending;  /* children not yet passed */
-    float *v;          /* incoming token value, +inf for none */
-    uint32_t *len;     /* channel length of the winning token */
+    uint32_t *len;     /* hybrid: channel length of the winning token; NULL for breach */
     double max_depth, max_length;
     int eps;
     uint64_t channels;       /* cells that start a channel (the first cell a token lowers) */
     const double *sea_level; /* NULL without a sea level */
 } descent;
 
-static float eff_w(const descent *d, uint32_t id) {
-    return d->st[id] == PITS_CLOSED ? d->w[id] : -INFINITY;
+static uint32_t parent_of(const descent *d, uint32_t x) {
+    uint32_t nb[8];
+    pg_pits_neighbours(d->t, x, nb);
+    return nb[d->slot[x]];
 }
 
-/* P(c) and the children counts; pits get their own token. */
+/* P(c) and the children counts (v holds W); then v becomes the tokens: pits get their
+ * own, the other cells none (+inf). W is not needed after the tree. */
 static void build_tree(descent *d) {
     uint32_t nb[8];
     for (uint64_t i = 0; i < d->t->ncells; i++) {
-        d->v[i] = INFINITY;
-        d->len[i] = 0;
-        if (d->st[i] == PITS_CLOSED) continue;
-        d->parent[i] = UINT32_MAX;
-    }
-    for (uint64_t i = 0; i < d->t->ncells; i++) {
         if (d->st[i] != PITS_CLOSED) continue;
-        int k = pg_pits_neighbours(d->t, (uint32_t)i, nb), lower = 0;
+        int k = pg_pits_neighbours(d->t, (uint32_t)i, nb), best_j = 0;
         uint64_t best = UINT64_MAX;
         for (int j = 0; j < k; j++) {
-            uint64_t key = pits_key(eff_w(d, nb[j]), nb[j]);
-            if (key < best) best = key;
-            lower |= d->st[nb[j]] != PITS_CLOSED || d->h[nb[j]] < d->h[i];
+            float w = d->st[nb[j]] == PITS_CLOSED ? d->v[nb[j]] : -INFINITY;
+            uint64_t key = pits_key(w, nb[j]);
+            if (key < best) best = key, best_j = j;
         }
-        uint32_t p = pits_key_id(best);
-        d->parent[i] = p;
+        d->slot[i] = (uint8_t)best_j;
+        uint32_t p = nb[best_j];
         if (d->pending[p] < 255) d->pending[p]++;
+    }
+    for (uint64_t i = 0; i < d->t->ncells; i++) {
+        d->v[i] = INFINITY;
+        if (d->st[i] != PITS_CLOSED) continue;
+        int k = pg_pits_neighbours(d->t, (uint32_t)i, nb), lower = 0;
+        for (int j = 0; j < k; j++)
+            lower |= d->st[nb[j]] != PITS_CLOSED || d->h[nb[j]] < d->h[i];
         /* without epsilon, drained flats need nothing: only cells the minimal fill
          * raises (in d->fill) start a channel */
         if (!lower && (!d->fill || d->fill[i] > d->h[i])) d->v[i] = d->h[i];
@@ -93,14 +96,17 @@ static void build_tree(descent *d) {
 }
 
 /* x is done: carve it if its token may, and pass the token on. */
-static void settle(descent *d, uint32_t x) {
+static void settle(descent *d, uint32_t x, uint32_t p) {
     float to, pass;
-    uint32_t plen, p = d->parent[x];
-    if (!pits_token(d->h[x], d->v[x], d->len[x], d->max_depth, d->max_length, &to, &pass, &plen))
-        return;
-    if (to < d->h[x] && d->len[x] == 0) d->channels++;
+    uint32_t plen, lx = d->len ? d->len[x] : 0;
+    if (!pits_token(d->h[x], d->v[x], lx, d->max_depth, d->max_length, &to, &pass, &plen)) return;
+    if (to < d->h[x] && lx == 0) d->channels++;
     d->h[x] = to;
-    if (d->st[p] == PITS_CLOSED) pits_token_merge(&d->v[p], &d->len[p], pass, plen);
+    if (d->st[p] != PITS_CLOSED) return; /* a sink */
+    if (d->len)
+        pits_token_merge(&d->v[p], &d->len[p], pass, plen);
+    else if (pass < d->v[p])
+        d->v[p] = pass;
 }
 
 /* Children before parents: start from the cells nobody drains into. */
@@ -109,9 +115,8 @@ static int sweep(descent *d) {
     for (uint64_t i = 0; i < d->t->ncells; i++)
         if (d->st[i] == PITS_CLOSED && d->pending[i] == 0) pits_fifo_push(&f, (uint32_t)i);
     while (!pits_fifo_empty(&f) && !f.oom) {
-        uint32_t x = pits_fifo_pop(&f);
-        settle(d, x);
-        uint32_t p = d->parent[x];
+        uint32_t x = pits_fifo_pop(&f), p = parent_of(d, x);
+        settle(d, x, p);
         if (d->st[p] == PITS_CLOSED && --d->pending[p] == 0) pits_fifo_push(&f, p);
     }
     int oom = f.oom;
@@ -143,34 +148,32 @@ pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opt
     uint8_t *st = NULL;
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
+    const int hybrid = o->method == PG_PITS_HYBRID;
     descent d = {.t = t,
                  .h = h,
                  .st = st,
-                 .max_depth = INFINITY,
-                 .max_length = INFINITY,
+                 .max_depth = hybrid ? o->max_depth : INFINITY,
+                 .max_length = hybrid ? o->max_length : INFINITY,
                  .eps = o->epsilon,
                  .sea_level = o->has_sea_level ? &o->sea_level : NULL};
-    if (o->method == PG_PITS_HYBRID) d.max_depth = o->max_depth, d.max_length = o->max_length;
-    float *w = malloc(t->ncells * sizeof *w);
-    d.w = w;
-    d.parent = malloc(t->ncells * sizeof *d.parent);
-    d.pending = calloc(t->ncells, 1);
     d.v = malloc(t->ncells * sizeof *d.v);
-    d.len = malloc(t->ncells * sizeof *d.len);
+    d.slot = malloc(t->ncells);
+    d.pending = calloc(t->ncells, 1);
+    d.len = hybrid ? calloc(t->ncells, sizeof *d.len) : NULL;
     float *fill = o->epsilon ? NULL : malloc(t->ncells * sizeof *fill);
-    int oom = !w || !d.parent || !d.pending || !d.v || !d.len || (!o->epsilon && !fill);
+    int oom = !d.v || !d.slot || !d.pending || (hybrid && !d.len) || (!o->epsilon && !fill);
     if (!oom && fill) { /* the minimal fill first, then the same sinks for W */
         oom = pits_meps_compute(t, h, st, &q, fill, 0);
         for (uint64_t i = 0; i < t->ncells; i++)
             if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
         d.fill = fill;
     }
-    if (!oom) oom = pits_meps_compute(t, h, st, &q, w, 1);
+    if (!oom) oom = pits_meps_compute(t, h, st, &q, d.v, 1);
     if (!oom) build_tree(&d);
     if (!oom) oom = sweep(&d);
-    if (!oom && o->method == PG_PITS_HYBRID) oom = fill_rest(&d, &q, w);
+    if (!oom && hybrid) oom = fill_rest(&d, &q, d.v);
     pits_heap_free(&q);
-    free(w), free(fill), free(d.parent), free(d.pending), free(d.v), free(d.len);
+    free(d.v), free(fill), free(d.slot), free(d.pending), free(d.len);
     pits_end(t, h, o, st);
     free(st);
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for breaching");

@@ -62,7 +62,16 @@ void pits_fifo_free(pits_fifo *f) {
     f->head = f->tail = f->cap = 0;
 }
 
+/* When at least half the array has been popped, move the live part down instead of
+ * growing: a long search (pg_pits_planchon2002_minimal_eps.c closes most of a planet
+ * in one) would otherwise keep every cell it ever queued, 4 bytes per cell. */
 void pits_fifo_grow(pits_fifo *f) {
+    if (f->head >= f->cap / 2 && f->head > 0) {
+        memmove(f->a, f->a + f->head, (f->tail - f->head) * sizeof *f->a);
+        f->tail -= f->head;
+        f->head = 0;
+        return;
+    }
     size_t cap = f->cap ? f->cap * 2 : 4096;
     uint32_t *a = realloc(f->a, cap * sizeof *a);
     if (!a) {
