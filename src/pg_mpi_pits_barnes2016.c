@@ -454,9 +454,14 @@ typedef struct eps_ctx {
     uint8_t *closed; /* owned cells already at their floor this round */
 } eps_ctx;
 
+/* Is the cell in one of the tiles [t0, t1) (this rank's)? */
+static int in_tiles(const dfill *d, int t0, int t1, uint32_t id) {
+    int t = tile_of(d, id);
+    return t >= t0 && t < t1;
+}
+
 static int eps_owned(const eps_ctx *e, uint32_t id) {
-    int t = tile_of(e->d, id);
-    return t >= e->t0 && t < e->t1;
+    return in_tiles(e->d, e->t0, e->t1, id);
 }
 
 static int eps_settable(const void *ctx, uint32_t id) {
@@ -567,10 +572,8 @@ static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg
     int bad = !floor_ || !e.closed || !before, more = 1;
     if (!bad) memcpy(floor_, d->h, d->t->ncells * sizeof *floor_);
     /* Start the ring from above: +inf (no known way out) except at sinks. */
-    for (uint64_t i = 0; !bad && i < d->t->ncells; i++) {
-        int t = tile_of(d, (uint32_t)i);
-        if ((t < t0 || t >= t1) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
-    }
+    for (uint64_t i = 0; !bad && i < d->t->ncells; i++)
+        if (!in_tiles(d, t0, t1, (uint32_t)i) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
     if (!bad) memcpy(before, d->h, d->t->ncells * sizeof *before);
     while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
         int r =
@@ -689,8 +692,7 @@ typedef struct dtree {
 } dtree;
 
 static int owned(const dtree *e, uint32_t id) {
-    int t = tile_of(e->d, id);
-    return t >= e->t0 && t < e->t1;
+    return in_tiles(e->d, e->t0, e->t1, id);
 }
 
 #define DT_FOR_OWNED(e, id) FOR_TILE_CELLS((e)->d, (e)->t0, (e)->t1, id)

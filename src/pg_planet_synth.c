@@ -1054,12 +1054,8 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     info->synth_seconds = pg_synth_now() - t0;
     size_t px = (size_t)6 * c.Nout * c.Nout;
     float *H = NULL;
-    if (!st) {
-        float *tmpV = NULL;
-        H = malloc(px * sizeof *H);
-        if (!H) st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
-        (void)tmpV;
-    }
+    if (!st && !(H = malloc(px * sizeof *H)))
+        st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
     if (!st) {
         /* Distributed without the pits hooks: the final pit removal and the depression
          * counts are whole-planet steps, run by every process on the whole level
