@@ -524,7 +524,7 @@ static int eps_round(dfill *d, eps_ctx *e, const float *floor_) {
         d->h[id] = w;
         if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
     }
-    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
+    pits_meps m = {d->t, d->h, floor_, eps_settable, e, 0};
     oom = oom || q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom ? -1 : 0;
@@ -549,7 +549,7 @@ static int eps_update(dfill *d, eps_ctx *e, const float *floor_, const float *be
             pits_heap_push(&q, pits_key(w, id));
         }
     }
-    pits_meps m = {d->t, d->h, floor_, eps_settable, e, NULL, 0, 0};
+    pits_meps m = {d->t, d->h, floor_, eps_settable, e, 0};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom ? -1 : 0;

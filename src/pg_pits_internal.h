@@ -141,16 +141,13 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
  * w: the sources' values (read through their keys) and, for every cell the flood may
  * set, a start value (+inf, or an upper bound); out: W on those cells. settable(ctx,
  * id) says whether the flood may set a cell (not a sink, inside the region). q holds
- * the sources' keys (height -inf for sinks). order, when not NULL, receives the cells
- * the flood settles, in nondecreasing W. Returns nonzero when out of memory. */
+ * the sources' keys (height -inf for sinks). Returns nonzero when out of memory. */
 typedef struct pits_meps {
     const pg_pits_topo *t;
     float *w;
     const float *floor;
     int (*settable)(const void *ctx, uint32_t id);
     const void *ctx;
-    uint32_t *order;
-    uint64_t norder;
     int plain; /* up(w) = w: the minimal (plain) fill instead */
 } pits_meps;
 

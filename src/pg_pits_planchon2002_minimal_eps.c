@@ -59,10 +59,8 @@ int pits_meps_flood(pits_meps *m, pits_heap *q) {
     while (q->n || !pits_fifo_empty(&fifo)) {
         uint64_t key = next_key(m, q, &fifo);
         uint32_t c = pits_key_id(key);
-        if (m->settable(m->ctx, c)) {
-            if (key != pits_key(m->w[c], c)) continue; /* superseded by a lower value */
-            if (m->order) m->order[m->norder++] = c;
-        }
+        if (m->settable(m->ctx, c) && key != pits_key(m->w[c], c))
+            continue; /* superseded by a lower value */
         float hk = pits_key_height(key), up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
         int k = pg_pits_neighbours(m->t, c, nb);
         for (int j = 0; j < k; j++) {
@@ -127,7 +125,7 @@ static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, 
             }
         if (w[i] < INFINITY) pits_heap_push(&q, pits_key(w[i], (uint32_t)i));
     }
-    pits_meps m = {t, w, h, open_cell, st, NULL, 0, !eps};
+    pits_meps m = {t, w, h, open_cell, st, !eps};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom;
