@@ -564,6 +564,18 @@ static int owned_changed(const dfill *d, int t0, int t1, const float *before) {
     return changed;
 }
 
+/* Start the ring from above: +inf (no known way out) except at sinks. Only the ring is
+ * visited: the cells beyond it hold whatever the caller left there (in generate,
+ * nothing: they are never written), so they must not even be read. */
+static void ring_from_above(dfill *d, int t0, int t1) {
+    uint32_t nb[8];
+    FOR_TILE_CELLS(d, t0, t1, id) {
+        int nn = pg_pits_neighbours(d->t, id, nb);
+        for (int j = 0; j < nn; j++)
+            if (!in_tiles(d, t0, t1, nb[j]) && !sink(d, nb[j])) d->h[nb[j]] = INFINITY;
+    }
+}
+
 static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg_error *err) {
     double t_start = MPI_Wtime();
     float *floor_ = malloc(d->t->ncells * sizeof *floor_); /* only owned cells are read */
@@ -571,9 +583,7 @@ static pg_status eps_rounds(dfill *d, int t0, int t1, pg_mpi_pits_info *info, pg
     eps_ctx e = {d, t0, t1, calloc(d->t->ncells, 1)};
     int bad = !floor_ || !e.closed || !before, more = 1;
     if (!bad) memcpy(floor_, d->h, d->t->ncells * sizeof *floor_);
-    /* Start the ring from above: +inf (no known way out) except at sinks. */
-    for (uint64_t i = 0; !bad && i < d->t->ncells; i++)
-        if (!in_tiles(d, t0, t1, (uint32_t)i) && !sink(d, (uint32_t)i)) d->h[i] = INFINITY;
+    if (!bad) ring_from_above(d, t0, t1);
     if (!bad) memcpy(before, d->h, d->t->ncells * sizeof *before);
     while (!(bad = pg_mpi_max_int(d->m, bad)) && more) {
         int r =
@@ -714,6 +724,8 @@ static void dt_tree(dtree *e, const float *w) {
         }
         e->parent[id] = pits_key_id(best);
         e->pit[id] = !lower;
+        for (int j = 0; j < k; j++) /* ring cells bring no token before the first exchange */
+            if (!owned(e, nb[j])) e->pass[nb[j]] = INFINITY, e->plen[nb[j]] = 0;
     }
 }
 
