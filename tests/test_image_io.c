@@ -9,6 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static void fill_pattern(pg_image *img) {
     for (int y = 0; y < img->height; y++)
@@ -151,6 +154,56 @@ static void test_pixel_limit_refused_before_alloc(void **s) {
     pg_image_free(&a);
 }
 
+/* fuzz_image found it (tests/fuzz/corpus/image/exr-huge-attribute): an EXR of 277 bytes
+ * whose first attribute claims a 1.9 GB string. OpenImageIO's C++ EXR reader allocated
+ * that before noticing the file was too short (2 GB peak); now the header goes through
+ * OpenEXR's C API first and is refused with one line. Checked in a child process, whose
+ * peak memory (getrusage, sent back with the error) must stay far below the claim. */
+static void test_exr_absurd_attribute_refused_before_alloc(void **s) {
+    (void)s;
+    char path[1200];
+    snprintf(path, sizeof path, "%s/tests/fuzz/corpus/image/exr-huge-attribute",
+             pg_test_source_dir());
+    char dir[1024], exr[1200];
+    pg_test_scratch_dir("io_exr_attr", dir, sizeof dir);
+    snprintf(exr, sizeof exr, "%s/claims-1.9GB.exr", dir);
+    FILE *in = fopen(path, "rb"), *out = fopen(exr, "wb");
+    assert_non_null(in);
+    assert_non_null(out);
+    int c = fgetc(in); /* the harness's selector byte */
+    while ((c = fgetc(in)) != EOF)
+        fputc(c, out);
+    fclose(in), fclose(out);
+    int fd[2];
+    assert_int_equal(pipe(fd), 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        pg_image img;
+        pg_error err = {0};
+        pg_status st = pg_image_read(exr, 0, &img, &err);
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        dprintf(fd[1], "%d %ld %s", (int)st, ru.ru_maxrss, err.msg);
+        _exit(0);
+    }
+    close(fd[1]);
+    char msg[600] = {0};
+    ssize_t n = read(fd[0], msg, sizeof msg - 1);
+    close(fd[0]);
+    int status;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    long peak_kb = -1;
+    int st = -1;
+    assert_true(n > 0 && sscanf(msg, "%d %ld", &st, &peak_kb) == 2);
+    print_message("%s (first: status, child's peak KB)\n", msg);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(st, PG_ERR_BADINPUT);
+    assert_non_null(strstr(msg, exr));
+    assert_non_null(strstr(msg, "OpenEXR"));
+    assert_null(strchr(msg, '\n'));
+    assert_true(peak_kb > 0 && peak_kb < 400 * 1024); /* the claim is 1 900 MB */
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_png8_roundtrip),
@@ -159,6 +212,7 @@ int main(void) {
         cmocka_unit_test(test_exr_multipart),
         cmocka_unit_test(test_tiff_via_oiiotool),
         cmocka_unit_test(test_pixel_limit_refused_before_alloc),
+        cmocka_unit_test(test_exr_absurd_attribute_refused_before_alloc),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
