@@ -35,6 +35,15 @@ static pg_status exr_fail(pg_error *err, pg_status st, const char *path, const e
                         m->text[0] ? m->text : exr_get_error_code_as_string(rv));
 }
 
+/* Open path for reading; the library's error text lands in *m. */
+static exr_result_t exr_open_read(const char *path, exr_context_t *ctxt, exr_msg *m) {
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture_error;
+    init.user_data = m;
+    *ctxt = NULL;
+    return exr_start_read(ctxt, path, &init);
+}
+
 static const char *default_channel_name(int nch, int c) {
     static const char *const names[5][4] = {{"", "", "", ""},
                                             {"Y", "", "", ""},
@@ -177,11 +186,8 @@ static int find_part(exr_context_t ctxt, const char *want) {
 pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *out, pg_error *err) {
     memset(out, 0, sizeof *out);
     exr_msg m = {{0}};
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = capture_error;
-    init.user_data = &m;
     exr_context_t ctxt = NULL;
-    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    exr_result_t rv = exr_open_read(path, &ctxt, &m);
     if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
     int part = find_part(ctxt, part_name);
     pg_status st = PG_OK;
@@ -224,11 +230,8 @@ pg_status pg_image_exr_check(const char *path, pg_error *err) {
     fclose(f);
     if (n != 4 || memcmp(head, magic, 4) != 0) return PG_OK; /* not an EXR */
     exr_msg m = {{0}};
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = capture_error;
-    init.user_data = &m;
     exr_context_t ctxt = NULL;
-    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    exr_result_t rv = exr_open_read(path, &ctxt, &m);
     if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
     exr_finish(&ctxt);
     return PG_OK;
@@ -237,11 +240,8 @@ pg_status pg_image_exr_check(const char *path, pg_error *err) {
 pg_status pg_exr_list_parts(const char *path, int *nparts, char (*names)[64], int max_names,
                             pg_error *err) {
     exr_msg m = {{0}};
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = capture_error;
-    init.user_data = &m;
     exr_context_t ctxt = NULL;
-    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    exr_result_t rv = exr_open_read(path, &ctxt, &m);
     if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
     exr_get_count(ctxt, nparts);
     for (int i = 0; i < *nparts && i < max_names; i++) {
