@@ -204,6 +204,47 @@ static void test_exr_absurd_attribute_refused_before_alloc(void **s) {
     assert_true(peak_kb > 0 && peak_kb < 400 * 1024); /* the claim is 1 900 MB */
 }
 
+/* Copy a fuzz corpus entry (minus the harness's selector byte) to dir/name. */
+static void corpus_file(const char *entry, const char *dir, const char *name, char *out,
+                        size_t size) {
+    char src[1200];
+    snprintf(src, sizeof src, "%s/tests/fuzz/corpus/image/%s", pg_test_source_dir(), entry);
+    snprintf(out, size, "%s/%s", dir, name);
+    FILE *in = fopen(src, "rb"), *o = fopen(out, "wb");
+    assert_non_null(in);
+    assert_non_null(o);
+    int c = fgetc(in);
+    while ((c = fgetc(in)) != EOF)
+        fputc(c, o);
+    fclose(in), fclose(o);
+}
+
+/* fuzz_image found it (corpus entry jpeg-iptc-overrun): a JPEG whose APP13 IPTC block
+ * declares 2 364 bytes in a segment of 86. OpenImageIO 2.4 read past the segment (ASan:
+ * heap-buffer-overflow in decode_iptc_iim); now the marker walk refuses it with one line.
+ * A JPEG with a well-formed IPTC block, as oiiotool writes it, still reads. */
+static void test_jpeg_iptc_overrun_refused(void **s) {
+    (void)s;
+    char dir[1024], bad[1200], good[1200], cmd[2600];
+    pg_test_scratch_dir("io_jpeg_iptc", dir, sizeof dir);
+    corpus_file("jpeg-iptc-overrun", dir, "overrun.jpg", bad, sizeof bad);
+    pg_image img;
+    pg_error err = {0};
+    assert_int_equal(pg_image_read(bad, 0, &img, &err), PG_ERR_BADINPUT);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, bad));
+    assert_non_null(strstr(err.msg, "IPTC"));
+    assert_null(img.data);
+    snprintf(good, sizeof good, "%s/iptc.jpg", dir);
+    snprintf(cmd, sizeof cmd,
+             "oiiotool --pattern checker 32x16 3 --attrib IPTC:Caption caption -o '%s'", good);
+    assert_int_equal(system(cmd), 0);
+    err.msg[0] = 0;
+    assert_int_equal(pg_image_read(good, 0, &img, &err), PG_OK);
+    assert_int_equal(img.width, 32);
+    pg_image_free(&img);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_png8_roundtrip),
@@ -213,6 +254,7 @@ int main(void) {
         cmocka_unit_test(test_tiff_via_oiiotool),
         cmocka_unit_test(test_pixel_limit_refused_before_alloc),
         cmocka_unit_test(test_exr_absurd_attribute_refused_before_alloc),
+        cmocka_unit_test(test_jpeg_iptc_overrun_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

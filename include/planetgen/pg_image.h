@@ -55,6 +55,11 @@ void pg_image_free(pg_image *img);
  * that are not PNGs. pg_image_read calls it first. */
 pg_status pg_image_png_check(const char *path, pg_error *err);
 
+/* Marker walk of a JPEG up to its scan: refuses an APP13 IPTC block that declares more
+ * bytes than its segment holds (OpenImageIO 2.4 would read past the segment); PG_OK for
+ * files that are not JPEGs. pg_image_read calls it first. */
+pg_status pg_image_jpeg_check(const char *path, pg_error *err);
+
 /* Header check of an OpenEXR file through OpenEXR's C API, which checks every declared
  * size against the file; PG_OK for files that are not EXRs. pg_image_read calls it
  * first: OpenImageIO's C++ EXR reader allocates what a header claims before checking. */

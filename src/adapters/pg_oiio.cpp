@@ -144,6 +144,7 @@ static const char *sniff_format(const char *path) {
 static pg_status open_input(const char *path, std::unique_ptr<ImageInput> &in, pg_error *err) {
     pg_status st = check_path(path, err);
     if (st == PG_OK) st = pg_image_png_check(path, err);
+    if (st == PG_OK) st = pg_image_jpeg_check(path, err);
     if (st == PG_OK) st = pg_image_exr_check(path, err);
     if (st != PG_OK) return st;
     const char *fmt = sniff_format(path);
