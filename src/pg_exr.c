@@ -218,7 +218,7 @@ pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *o
 }
 
 /* OpenEXR's C++ reader, which OpenImageIO uses, trusts an attribute's declared size and
- * allocates it before finding the file too short: a 278-byte file claiming a 1.9 GB string
+ * allocates it before finding the file too short: a 277-byte file claiming a 1.9 GB string
  * took 2 GB of memory (found by fuzz_image). The C API checks every header size against
  * the file, so pg_image_read runs the headers through it first, as it walks PNG chunks. */
 pg_status pg_image_exr_check(const char *path, pg_error *err) {
