@@ -9,6 +9,7 @@
 #include "planetgen/pg_json.h"
 #include "pg_planet_meta.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,7 @@ pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int 
     p->n = (int64_t)tiles * tile_size;
     p->projection = proj;
     p->ellipsoid = ell;
+    p->closed_land_share_before_final = NAN;
     size_t nn = (size_t)p->n * (size_t)p->n;
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
         p->albedo[f] = calloc(nn * 3, sizeof(float));
@@ -41,6 +43,7 @@ void pg_planet_free(pg_planet *p) {
         free(p->height[f]);
         p->albedo[f] = p->height[f] = NULL;
     }
+    pg_planet_source_free(p);
 }
 
 double pg_planet_bytes(int tiles, int tile_size) {

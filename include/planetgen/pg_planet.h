@@ -12,6 +12,9 @@
  *                       face's +v edge (north up on the equatorial faces)
  *   height.exr          float32 heights in metres, one part per face, parts named
  *                       "+X", "-X", "+Y", "-Y", "+Z", "-Z", same orientation as PNGs
+ *   source.exr          optional: the synthesis coordinate map (pg_planet_source), one
+ *                       part per face, channels face, u, v (exemplar-cube texel) as
+ *                       32-bit unsigned integers, same orientation as PNGs
  * Files are written under temporary names and renamed by the caller (the CLI's
  * pg_cli_output_path), so a directory is either complete or absent. */
 #ifndef PLANETGEN_PG_PLANET_H
@@ -26,6 +29,18 @@ extern "C" {
 
 #define PG_PLANET_FORMAT_VERSION 1
 
+/* Where each texel came from (docs/inspect.md, "Copy detection"): the exemplar-cube
+ * texel that synthesis copied into it. The exemplar cube has face_size texels per
+ * face edge, the given projection and the planet's own face frames (pg_cube.h); its
+ * texel (face, u, v) has its centre at grid coordinates ((2u+1)/E - 1, (2v+1)/E - 1).
+ * coords[f] is NULL when the planet has no map (made by pg_planet_from_exemplar, or
+ * by an older planetgen): the measures that need it then report NaN. */
+typedef struct pg_planet_source {
+    int face_size;                    /* E, exemplar texels per face edge (0: no map) */
+    pg_cube_projection projection;    /* of the exemplar cube */
+    uint32_t *coords[PG_CUBE_NFACES]; /* n*n, pg_synth_pack(face, u, v), orientation 0 */
+} pg_planet_source;
+
 typedef struct pg_planet {
     int tiles, tile_size;
     int64_t n; /* texels per face edge: tiles * tile_size */
@@ -36,12 +51,34 @@ typedef struct pg_planet {
     char exemplar[512];
     float *albedo[PG_CUBE_NFACES]; /* n*n*3 */
     float *height[PG_CUBE_NFACES]; /* n*n */
+    pg_planet_source source;       /* optional coordinate map (above); freed with the planet */
+    /* Share of land area (above sea_level) that drained into closed basins, not the sea,
+     * before the final pit pass (pg_drainage_closed_land_share); NaN when unknown. */
+    double closed_land_share_before_final;
 } pg_planet;
 
 /* Allocate the faces (zeroed) and set the geometry. */
 pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
                           pg_ellipsoid ell, pg_error *err);
 void pg_planet_free(pg_planet *p);
+
+/* ---- the coordinate map (pg_planet_source.c) ---- */
+
+/* Allocate an empty map (every coordinate 0) for an exemplar cube of E texels per face
+ * edge; any previous map is freed. */
+pg_status pg_planet_source_alloc(pg_planet *p, int face_size, pg_cube_projection proj,
+                                 pg_error *err);
+void pg_planet_source_free(pg_planet *p);
+/* Does the planet carry a coordinate map? */
+bool pg_planet_has_source(const pg_planet *p);
+/* Unit direction of the centre of the exemplar texel that texel (face, x, y) of the
+ * planet came from. The map must be present. */
+void pg_planet_source_dir(const pg_planet *p, int face, int64_t x, int64_t y, double dir[3]);
+/* The identity map of an exemplar cube of E texels per face edge: every texel points
+ * at the exemplar texel whose centre is nearest its own direction - what a copy of
+ * the exemplar (pg_planet_from_exemplar) has. */
+pg_status pg_planet_source_identity(pg_planet *p, int face_size, pg_cube_projection proj,
+                                    pg_error *err);
 
 /* Bytes the faces of a planet of this size take in memory. */
 double pg_planet_bytes(int tiles, int tile_size);
