@@ -1,4 +1,4 @@
-/* pg_inspect_seams.c - the seam statistic of issue 5 (see pg_inspect.h).
+/* pg_inspect_seams.c - the seam statistics (see pg_inspect.h, docs/inspect.md "Seams").
  *
  * The idea: a seam is invisible when neighbours across it differ no more than
  * neighbours elsewhere. So we visit every 4-adjacent pair once per direction, sort it
@@ -106,6 +106,14 @@ pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const fac
     out->tile_edge_mean = mean_of(t.sum[KIND_TILE], t.count[KIND_TILE]);
     out->face_seam_mean = mean_of(t.sum[KIND_FACE], t.count[KIND_FACE]);
     out->ratio = out->interior_mean > 0 ? out->seam_mean / out->interior_mean : NAN;
+    out->face_seam_pairs = t.count[KIND_FACE];
+    out->within_face_mean = mean_of(t.sum[KIND_INTERIOR] + t.sum[KIND_TILE],
+                                    t.count[KIND_INTERIOR] + t.count[KIND_TILE]);
+    out->face_seam_ratio =
+        out->within_face_mean > 0 ? out->face_seam_mean / out->within_face_mean : NAN;
+    out->tile_edge_ratio = out->interior_mean > 0 && t.count[KIND_TILE]
+                               ? out->tile_edge_mean / out->interior_mean
+                               : NAN;
     return PG_OK;
 }
 
@@ -119,5 +127,7 @@ pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg
     pg_status st = pg_inspect_seam_field(p->n, p->tile_size, h, 1, &out->height, err);
     if (st == PG_OK) st = pg_inspect_seam_field(p->n, p->tile_size, a, 3, &out->albedo, err);
     out->ratio = fmax(out->height.ratio, out->albedo.ratio);
+    out->face_seam_ratio = fmax(out->height.face_seam_ratio, out->albedo.face_seam_ratio);
+    out->tile_edge_ratio = fmax(out->height.tile_edge_ratio, out->albedo.tile_edge_ratio);
     return st;
 }

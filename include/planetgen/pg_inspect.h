@@ -2,17 +2,17 @@
  * pole check, depressions and neighbourhood fidelity. `planetgen inspect` prints
  * them; the planet synthesis tests reuse the seam statistic.
  *
- * SEAM STATISTIC (issue 5): over every pair of 4-adjacent texels, the mean |delta| of a
- * field across the pairs that straddle a tile edge or one of the 12 face seams, divided
- * by the mean |delta| across the pairs inside a tile. A seamless planet scores ~1; a
- * planet whose tiles were made independently scores well above. For albedo, |delta| is
- * the mean over R, G, B of the absolute difference (sRGB 0..1).
+ * SEAM STATISTIC (docs/inspect.md, "Seams"): over every pair of 4-adjacent texels, the mean |delta|
+ * of a field across the pairs that straddle a tile edge or one of the 12 face seams, divided by the
+ * mean |delta| across the pairs inside a tile. A seamless planet scores ~1; a planet whose tiles
+ * were made independently scores well above. For albedo, |delta| is the mean over R, G, B of the
+ * absolute difference (sRGB 0..1).
  *
- * POLE CHECK (issue 8): the six views of pg_views.h are rendered from the planet, from
- * the exemplar reprojected onto a cube of the planet's geometry ("exemplar cube") and
- * from the original equirectangular exemplar ("exemplar equirect"). For each view,
- * d = LPIPS-style distance (pg_lpips.h) between the planet's view and the exemplar
- * equirect's view: how far the planet there is from what the exemplar shows there.
+ * TEXTURE COMPARISON (docs/inspect.md, "Texture comparison"; formerly the pole check): the six
+ * views of pg_views.h are rendered from the planet, from the exemplar reprojected onto a cube of
+ * the planet's geometry ("exemplar cube") and from the original equirectangular exemplar ("exemplar
+ * equirect"). For each view, d = LPIPS-style distance (pg_lpips.h) between the planet's view and
+ * the exemplar equirect's view: how far the planet there is from what the exemplar shows there.
  * ratio(pole) = (d(pole) + JND) / (mean over the four equator views of d + JND); the
  * planet's pole/equator ratio is the larger of the two poles'. A planet whose poles are
  * distorted (pinched, smeared) scores well above 1; the gate is <= 1.15.
@@ -37,27 +37,41 @@
 extern "C" {
 #endif
 
-/* The gate of issue 8: distance(pole) <= this x mean distance(equator). */
+/* The old pole check (docs/inspect.md, "Texture comparison"): distance(pole) <= this x
+ * mean distance(equator). Reported, no longer a gate: it compares with Earth at the same
+ * place. */
 #define PG_INSPECT_POLE_GATE 1.15
 /* Just-noticeable LPIPS-style distance added to both sides of the pole ratio (above). */
 #define PG_INSPECT_JND 0.005
-/* The gate of issue 5: seam |delta| <= this x interior |delta|. */
+/* Seam gate (docs/inspect.md, "Seams"): seam |delta| <= this x interior |delta|. */
 #define PG_INSPECT_SEAM_GATE 1.1
+/* Face seams alone (docs/inspect.md, "Face seams"): face_seam_ratio <= this, and
+ * face_seam_coherence >= PG_INSPECT_FACE_COHERENCE_GATE. */
+#define PG_INSPECT_FACE_SEAM_GATE 1.10
+#define PG_INSPECT_FACE_COHERENCE_GATE 0.8
 
 /* ---- seam statistic ---- */
 
 typedef struct pg_inspect_seam_stat {
-    double seam_mean;      /* mean |delta| over pairs straddling tile edges and face seams */
-    double interior_mean;  /* mean |delta| over adjacent pairs inside a tile */
-    double ratio;          /* seam_mean / interior_mean (NaN if there are no pairs) */
-    double tile_edge_mean; /* the tile edges inside faces alone (NaN with 1 tile per face) */
-    double face_seam_mean; /* the 12 face seams alone */
-    uint64_t seam_pairs, interior_pairs;
+    double seam_mean;        /* mean |delta| over pairs straddling tile edges and face seams */
+    double interior_mean;    /* mean |delta| over adjacent pairs inside a tile */
+    double ratio;            /* seam_mean / interior_mean (NaN if there are no pairs) */
+    double tile_edge_mean;   /* the tile edges inside faces alone (NaN with 1 tile per face) */
+    double face_seam_mean;   /* the 12 face seams alone */
+    double within_face_mean; /* every adjacent pair inside a face, tile edges included */
+    /* face_seam_mean / within_face_mean: tiles are views into one face array, so their
+     * edges are ordinary pairs here, and only the 12 face seams are judged */
+    double face_seam_ratio;
+    double tile_edge_ratio; /* tile_edge_mean / interior_mean (NaN with 1 tile per face) */
+    uint64_t seam_pairs, interior_pairs, face_seam_pairs;
 } pg_inspect_seam_stat;
 
 typedef struct pg_inspect_seams {
     pg_inspect_seam_stat height, albedo;
-    double ratio; /* the larger of the height and albedo ratios */
+    double ratio;           /* the larger of the height and albedo ratios */
+    double face_seam_ratio; /* the larger of the two face_seam_ratio (gate
+                               PG_INSPECT_FACE_SEAM_GATE) */
+    double tile_edge_ratio; /* the larger of the two tile_edge_ratio */
 } pg_inspect_seams;
 
 /* The statistic of one field: faces[f] holds n*n texels of ch floats in the layout of

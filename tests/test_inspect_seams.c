@@ -1,0 +1,129 @@
+/* test_inspect_seams.c - the face-seam statistics of pg_inspect.h on constructed planets
+ * whose answer is known: a field that is a smooth function of direction has no seams
+ * (face_seam_ratio and tile_edge_ratio ~1); the same field with one face turned a
+ * quarter about its centre breaks the four seams of that face; tiles offset by their
+ * own constants show at tile edges and not at face seams. */
+#include "pg_test.h"
+
+#include "planetgen/pg_inspect.h"
+#include "planetgen/pg_synth.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double unit(uint64_t salt, uint64_t k, int i) {
+    return pg_synth_hash(salt, 0, 0, (long)k, i, 0) / 4294967296.0;
+}
+
+/* A band-limited field on the sphere: a sum of 24 plane waves with hashed directions
+ * and phases, wavelength ~ 1/12 of the radius (several texels at N = 128). */
+static double field(const double d[3], uint64_t salt) {
+    double s = 0;
+    for (int k = 0; k < 24; k++) {
+        double w[3], len = 0;
+        for (int i = 0; i < 3; i++) {
+            w[i] = unit(salt, (uint64_t)k, i) * 2 - 1;
+            len += w[i] * w[i];
+        }
+        len = sqrt(len);
+        double ph = 6.2832 * unit(salt, (uint64_t)k, 7);
+        s += cos(75.0 * (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / len + ph);
+    }
+    return s / 24;
+}
+
+static void make_planet(pg_planet *p, int tiles, int tile_size) {
+    pg_error err = {0};
+    assert_int_equal(
+        pg_planet_alloc(p, PG_CUBE_EQUIANGULAR, tiles, tile_size, pg_ellipsoid_sphere(), &err),
+        PG_OK);
+    pg_cube_grid g;
+    assert_int_equal(pg_cube_grid_init(&g, p->projection, tiles, tile_size, &err), PG_OK);
+    int64_t n = p->n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t i = 0; i < n * n; i++) {
+            double d[3];
+            pg_cube_texel_dir(&g, f * n * n + i, d);
+            p->height[f][i] = (float)(1000 * field(d, 1));
+            for (int c = 0; c < 3; c++)
+                p->albedo[f][3 * i + c] = (float)(0.5 + 0.2 * field(d, 2 + (uint64_t)c));
+        }
+}
+
+/* Turn face f's content a quarter about its centre: (x, y) <- (y, n-1-x). */
+static void turn_face(pg_planet *p, int f) {
+    int64_t n = p->n;
+    float *h = malloc((size_t)(n * n) * sizeof *h), *a = malloc((size_t)(n * n) * 3 * sizeof *a);
+    assert_non_null(h);
+    assert_non_null(a);
+    memcpy(h, p->height[f], (size_t)(n * n) * sizeof *h);
+    memcpy(a, p->albedo[f], (size_t)(n * n) * 3 * sizeof *a);
+    for (int64_t y = 0; y < n; y++)
+        for (int64_t x = 0; x < n; x++) {
+            int64_t src = x * n + (n - 1 - y);
+            p->height[f][y * n + x] = h[src];
+            memcpy(p->albedo[f] + 3 * (y * n + x), a + 3 * src, 3 * sizeof *a);
+        }
+    free(h);
+    free(a);
+}
+
+static void test_smooth_field_has_no_seams(void **s) {
+    (void)s;
+    pg_planet p;
+    make_planet(&p, 4, 32);
+    pg_inspect_seams r;
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+    print_message("smooth: face_seam_ratio h %.3f a %.3f, tile_edge_ratio %.3f\n",
+                  r.height.face_seam_ratio, r.albedo.face_seam_ratio, r.tile_edge_ratio);
+    assert_true(r.face_seam_ratio <= PG_INSPECT_FACE_SEAM_GATE);
+    assert_true(r.face_seam_ratio >= 0.9);
+    assert_true(fabs(r.tile_edge_ratio - 1) < 0.05);
+    /* 12 seams of n texels, counted from both sides */
+    assert_int_equal(r.height.face_seam_pairs, 12 * 2 * p.n);
+    pg_planet_free(&p);
+}
+
+static void test_turned_face_fails(void **s) {
+    (void)s;
+    pg_planet p;
+    make_planet(&p, 4, 32);
+    turn_face(&p, PG_CUBE_FACE_PY);
+    pg_inspect_seams r;
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+    print_message("one face turned: face_seam_ratio h %.3f a %.3f, tile_edge_ratio %.3f\n",
+                  r.height.face_seam_ratio, r.albedo.face_seam_ratio, r.tile_edge_ratio);
+    assert_true(r.height.face_seam_ratio > 1.3 && r.albedo.face_seam_ratio > 1.3);
+    assert_true(fabs(r.tile_edge_ratio - 1) < 0.05); /* nothing changed inside faces */
+    pg_planet_free(&p);
+}
+
+static void test_offset_tiles_show_at_tile_edges(void **s) {
+    (void)s;
+    pg_planet p;
+    make_planet(&p, 4, 32);
+    int64_t n = p.n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t y = 0; y < n; y++)
+            for (int64_t x = 0; x < n; x++) {
+                uint64_t tile = (uint64_t)(f * 16 + (y / 32) * 4 + x / 32);
+                p.height[f][y * n + x] += (float)(400 * unit(9, tile, 0));
+            }
+    pg_inspect_seams r;
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+    print_message("offset tiles: tile_edge_ratio h %.3f\n", r.height.tile_edge_ratio);
+    assert_true(r.height.tile_edge_ratio > 1.5);
+    assert_true(r.albedo.tile_edge_ratio < 1.05);
+    pg_planet_free(&p);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_smooth_field_has_no_seams),
+                                       cmocka_unit_test(test_turned_face_fails),
+                                       cmocka_unit_test(test_offset_tiles_show_at_tile_edges)};
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
