@@ -1,5 +1,5 @@
 /* pg_inspect_fidelity.c - neighbourhood fidelity of a planet against its exemplar
- * (pg_inspect.h, issue 8).
+ * (pg_inspect.h, docs/inspect.md "Neighbourhood fidelity").
  *
  * Source: the texture energy of Kwatra, Essa, Bobick & Kwatra 2005 ("Texture
  * Optimization for Example-based Synthesis", SIGGRAPH) - the sum over output
@@ -11,11 +11,29 @@
  * A number alone does not say what "good" is, so the same search is run for two
  * baselines against the same exemplar database:
  *  - leave-one-out: queries on the exemplar itself, skipping every database entry on
- *    the same face within 2R texels (any neighbourhood sharing a texel with the
- *    query). That is how close the exemplar is to the rest of itself: a synthesis made
- *    of exemplar patches scores about this, a copy of the exemplar scores below it;
+ *    the same face within PG_INSPECT_FID_EXCLUDE texels of the query. That is how close
+ *    the exemplar is to the rest of itself;
  *  - random: each of the 25 texels drawn from a hashed exemplar texel, i.e. the
  *    exemplar's colours and heights with the structure destroyed.
+ *
+ * Copies do not count. A planet texel's own source (the planet's coordinate map,
+ * pg_planet_source) would match it exactly, so a copy of the exemplar would score far
+ * better than the exemplar scores against itself. Each planet query therefore skips
+ * the database entries within PG_INSPECT_FID_EXCLUDE texels of its source, the radius
+ * leave-one-out skips around its own centre; completeness does the same the other way
+ * (an exemplar query skips planet entries whose source lies near it). So all three
+ * ask the same question: how close is this neighbourhood to material taken from
+ * elsewhere. A planet without a map is searched without the exclusion.
+ *
+ * Blur. The nearest neighbour in L2 prefers smooth candidates: for stochastic texture a
+ * smooth neighbourhood is closer to a sharp one than another sharp instance with other
+ * phases is, so a blurred planet scores a *better* completeness than an exact copy.
+ * Completeness is therefore also measured on the local detail amplitude, a
+ * phase-free field: per channel D = sqrt(box5(hp^2)), hp = x - binomial3(x) (the
+ * finest octave of a Laplacian pyramid, squared and averaged like a complex cell's
+ * energy, as in the LPIPS-style features). Two sharp instances of one texture have
+ * nearly the same D; a blurred one has far less. completeness_ratio is the larger of
+ * the two ratios, each against its own leave-one-out.
  *
  * Preconditions and scale: planet and exemplar are compared at one texel spacing.
  * Planets are synthesized at the exemplar cube's scale (E = 512) and magnified at
@@ -63,10 +81,12 @@
 enum { SALT_PLANET = 1, SALT_LOO = 2, SALT_RANDOM = 3 };
 static const uint64_t FID_SEED = 0x5eed;
 
-/* A cube of analysis texels: 6 * n * n * CH floats, face-major. */
+/* A cube of analysis texels: 6 * n * n * CH floats, face-major; src (planet only, or
+ * NULL) holds each texel's source on the analysis cube, face * n * n + y * n + x, or -1. */
 typedef struct fid_field {
     int n;
     float *px;
+    int32_t *src;
 } fid_field;
 
 /* DCT basis and the frequency order of the DIM coefficients. */
@@ -76,7 +96,9 @@ typedef struct fid_dct {
 } fid_dct;
 
 /* The exemplar database: lattice neighbourhoods, prefix and rest stored apart so
- * the bound scan reads a compact array. */
+ * the bound scan reads a compact array. face, x, y: where the entry came from on the
+ * exemplar (its own centre, or a planet entry's source; face -1 = unknown), for the
+ * exclusion. */
 typedef struct fid_db {
     size_t count;
     float *pre, *rest;
@@ -165,13 +187,51 @@ static void scale_height(fid_field *f, double scale) {
         f->px[i * CH + 3] *= (float)scale;
 }
 
-/* The planet box-averaged by m (sRGB averaged as stored, like the exemplar cube's
- * taps), then Lab. */
-static pg_status planet_field(const pg_planet *p, int m, fid_field *out, pg_error *err) {
-    int n = (int)(p->n / m);
+/* Full-resolution texels of either side: sRGB and height in metres at any strides (the
+ * planet's faces, or a packed exemplar cube of 4 floats per texel). */
+typedef struct fid_src {
+    int64_t n;
+    const float *rgb[PG_CUBE_NFACES], *h[PG_CUBE_NFACES];
+    int rgb_stride, h_stride;
+} fid_src;
+
+static fid_src planet_src(const pg_planet *p) {
+    fid_src s = {p->n, {0}, {0}, 3, 1};
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        s.rgb[f] = p->albedo[f], s.h[f] = p->height[f];
+    return s;
+}
+
+static fid_src packed_src(const float *cube, int64_t n) {
+    fid_src s = {n, {0}, {0}, 4, 4};
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        s.rgb[f] = cube + (size_t)f * (size_t)(n * n) * 4;
+        s.h[f] = s.rgb[f] + 3;
+    }
+    return s;
+}
+
+/* Where the source of analysis texel (f, x, y) lies on the analysis cube: the source of
+ * the planet texel at the centre of its m x m block, as face * n * n + y * n + x. */
+static int32_t source_index(const pg_planet *p, int m, int n, int f, int x, int y) {
+    double d[3], u, v;
+    int sf;
+    pg_planet_source_dir(p, f, (int64_t)x * m + m / 2, (int64_t)y * m + m / 2, d);
+    pg_cube_from_dir(p->projection, d, &sf, &u, &v);
+    int sx = (int)((u + 1) * 0.5 * n), sy = (int)((v + 1) * 0.5 * n);
+    sx = sx < 0 ? 0 : (sx >= n ? n - 1 : sx);
+    sy = sy < 0 ? 0 : (sy >= n ? n - 1 : sy);
+    return (int32_t)(((int64_t)sf * n + sy) * n + sx);
+}
+
+/* A side box-averaged by m (sRGB averaged as stored, like the exemplar cube's taps),
+ * then Lab. */
+static pg_status box_field(const fid_src *sr, int m, fid_field *out, pg_error *err) {
+    int n = (int)(sr->n / m);
     out->n = n;
+    out->src = NULL;
     out->px = malloc((size_t)6 * n * n * CH * sizeof *out->px);
-    if (!out->px) return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory for the planet");
+    if (!out->px) return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory for a field");
     double w = 1.0 / ((double)m * m);
 #pragma omp parallel for schedule(static)
     for (int row = 0; row < 6 * n; row++) {
@@ -180,10 +240,10 @@ static pg_status planet_field(const pg_planet *p, int m, fid_field *out, pg_erro
             double acc[CH] = {0};
             for (int j = 0; j < m; j++)
                 for (int i = 0; i < m; i++) {
-                    size_t t = (size_t)(y * m + j) * p->n + (size_t)x * m + i;
+                    size_t t = (size_t)(y * m + j) * (size_t)sr->n + (size_t)x * m + i;
                     for (int c = 0; c < 3; c++)
-                        acc[c] += p->albedo[f][t * 3 + c];
-                    acc[3] += p->height[f][t];
+                        acc[c] += sr->rgb[f][t * (size_t)sr->rgb_stride + c];
+                    acc[3] += sr->h[f][t * (size_t)sr->h_stride];
                 }
             float *d = out->px + (((size_t)f * n + y) * n + x) * CH;
             for (int c = 0; c < CH; c++)
@@ -194,12 +254,99 @@ static pg_status planet_field(const pg_planet *p, int m, fid_field *out, pg_erro
     return PG_OK;
 }
 
-static pg_status exemplar_field(const pg_planet *p, const pg_exemplar *ex, int n, fid_field *out,
-                                pg_error *err) {
+/* The planet's analysis field, and each analysis texel's source when it has a map. */
+static pg_status planet_field(const pg_planet *p, int m, fid_field *out, pg_error *err) {
+    fid_src sr = planet_src(p);
+    pg_status st = box_field(&sr, m, out, err);
+    if (st != PG_OK || !pg_planet_has_source(p)) return st;
+    int n = out->n;
+    if (!(out->src = malloc((size_t)6 * n * n * sizeof *out->src)))
+        return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory for the planet");
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * n; row++)
+        for (int x = 0; x < n; x++)
+            out->src[(size_t)row * n + x] = source_index(p, m, n, row / n, x, row % n);
+    return PG_OK;
+}
+
+/* ---- the detail amplitude ---- */
+
+/* Clamped read of channel c at (x, y) of one face of n x n texels of CH floats. */
+static float at(const float *face, int64_t n, int64_t x, int64_t y, int c) {
+    x = x < 0 ? 0 : (x >= n ? n - 1 : x);
+    y = y < 0 ? 0 : (y >= n ? n - 1 : y);
+    return face[(size_t)(y * n + x) * CH + c];
+}
+
+/* One face at full resolution as Lab and height x hscale. */
+static void full_face(const fid_src *sr, int f, double hscale, float *out) {
+    size_t nn = (size_t)(sr->n * sr->n);
+#pragma omp parallel for schedule(static)
+    for (size_t t = 0; t < nn; t++) {
+        float rgb[3];
+        for (int c = 0; c < 3; c++)
+            rgb[c] = sr->rgb[f][t * (size_t)sr->rgb_stride + c];
+        pg_synth_srgb_to_lab(rgb, out + t * CH);
+        out[t * CH + 3] = (float)(sr->h[f][t * (size_t)sr->h_stride] * hscale);
+    }
+}
+
+/* Squared high-pass of one texel and channel: x - [1 2 1]/4 x [1 2 1]/4 x. */
+static float highpass2(const float *face, int64_t n, int64_t x, int64_t y, int c) {
+    static const float w[3] = {0.25f, 0.5f, 0.25f};
+    float lo = 0;
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++)
+            lo += w[i + 1] * w[j + 1] * at(face, n, x + i, y + j, c);
+    float hp = at(face, n, x, y, c) - lo;
+    return hp * hp;
+}
+
+/* The detail amplitude at full resolution, D = sqrt of the 5 x 5 box mean of the
+ * squared high-pass per face (edges clamped) and channel, box-averaged by m into the
+ * analysis grid. It is measured where the detail is, before the analysis grid's own
+ * averaging would remove the finest octave. */
+static pg_status detail_field(const fid_src *sr, int m, double hscale, fid_field *out,
+                              pg_error *err) {
+    int64_t N = sr->n;
+    int n = (int)(N / m);
+    size_t nn = (size_t)(N * N);
+    float *lab = malloc(nn * CH * sizeof *lab), *hp2 = malloc(nn * CH * sizeof *hp2);
     out->n = n;
-    pg_status st = pg_inspect_exemplar_cube(p, n, ex, &out->px, err);
-    if (st == PG_OK) to_lab(out->px, (size_t)6 * n * n);
-    return st;
+    out->src = NULL;
+    out->px = calloc((size_t)6 * n * n * CH, sizeof *out->px);
+    if (!lab || !hp2 || !out->px) {
+        free(lab), free(hp2), free(out->px);
+        out->px = NULL;
+        return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory for the detail field");
+    }
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        full_face(sr, f, hscale, lab);
+#pragma omp parallel for schedule(static)
+        for (int64_t y = 0; y < N; y++)
+            for (int64_t x = 0; x < N; x++)
+                for (int c = 0; c < CH; c++)
+                    hp2[(size_t)(y * N + x) * CH + c] = highpass2(lab, N, x, y, c);
+#pragma omp parallel for schedule(static)
+        for (int y = 0; y < n; y++)
+            for (int x = 0; x < n; x++)
+                for (int c = 0; c < CH; c++) {
+                    double acc = 0;
+                    for (int j = 0; j < m; j++)
+                        for (int i = 0; i < m; i++) {
+                            float e = 0;
+                            int64_t X = (int64_t)x * m + i, Y = (int64_t)y * m + j;
+                            for (int b = -2; b <= 2; b++)
+                                for (int a = -2; a <= 2; a++)
+                                    e += at(hp2, N, X + a, Y + b, c);
+                            acc += sqrt(e / 25);
+                        }
+                    out->px[(((size_t)f * n + y) * n + x) * CH + c] =
+                        (float)(acc / ((double)m * m));
+                }
+    }
+    free(lab), free(hp2);
+    return PG_OK;
 }
 
 /* ---- database and search ---- */
@@ -231,6 +378,11 @@ static pg_status db_build(const fid_dct *dct, const fid_field *f, fid_db *d, pg_
         memcpy(d->pre + i * PFX, v, PFX * sizeof *v);
         memcpy(d->rest + i * REST, v + PFX, REST * sizeof *v);
         d->face[i] = face, d->x[i] = x, d->y[i] = y;
+        if (f->src) { /* a planet entry is known by its source */
+            int32_t c = f->src[((size_t)face * f->n + y) * f->n + x];
+            d->face[i] = c / (f->n * f->n);
+            d->x[i] = c % f->n, d->y[i] = (c / f->n) % f->n;
+        }
     }
     return PG_OK;
 }
@@ -250,9 +402,9 @@ static float sq_lanes(const float *q, const float *a, int len) {
     return (l[0] + l[1]) + (l[2] + l[3]);
 }
 
-/* One query: frequency-ordered coefficients, its centre for the leave-one-out
- * exclusion (excl > 0: skip database entries on `face` within excl texels of (x, y)),
- * and the smallest squared distance found so far. */
+/* One query: frequency-ordered coefficients, where it came from on the exemplar for the
+ * exclusion (excl > 0: skip database entries on `face` within excl texels of (x, y);
+ * face -1: nothing excluded), and the smallest squared distance found so far. */
 typedef struct fid_query {
     float q[DIM];
     int face, x, y, excl;
@@ -296,7 +448,8 @@ static int hashed_coord(uint32_t h, int n) {
 }
 
 /* The neighbourhood of query `i` (face i / Q): a hashed centre on the planet or the
- * exemplar, or 25 hashed exemplar texels. Sets the centre for the exclusion. */
+ * exemplar, or 25 hashed exemplar texels. Sets the exemplar position for the
+ * exclusion: a planet query's source (face -1 without a map), else its own centre. */
 static void query_nb(query_kind kind, const fid_field *planet, const fid_field *exf, int i,
                      float *nb, int *face, int *x, int *y) {
     const int Q = PG_INSPECT_FID_QUERIES;
@@ -317,6 +470,12 @@ static void query_nb(query_kind kind, const fid_field *planet, const fid_field *
     *x = hashed_coord(pg_synth_hash(FID_SEED, 0, *face, i, 0, salt), f->n);
     *y = hashed_coord(pg_synth_hash(FID_SEED, 0, *face, i, 1, salt), f->n);
     gather(f, *face, *x, *y, nb);
+    if (kind == Q_PLANET) {
+        int32_t c = planet->src ? planet->src[((size_t)*face * f->n + *y) * f->n + *x] : -1;
+        *face = c < 0 ? -1 : c / (f->n * f->n);
+        *x = c < 0 ? -1 : c % f->n;
+        *y = c < 0 ? -1 : (c / f->n) % f->n;
+    }
 }
 
 /* Mean over 6 * Q queries of the RMS difference per texel and channel to the nearest
@@ -336,7 +495,7 @@ static double measure(query_kind kind, const fid_dct *dct, const fid_db *d, cons
             float nb[DIM];
             query_nb(kind, planet, exf, i0 + t, nb, &qs[t].face, &qs[t].x, &qs[t].y);
             transform(dct, nb, qs[t].q);
-            qs[t].excl = kind == Q_LOO ? 2 * R : 0;
+            qs[t].excl = kind == Q_RANDOM || qs[t].face < 0 ? 0 : PG_INSPECT_FID_EXCLUDE;
         }
         nearest_block(d, qs, count);
         for (int t = 0; t < count; t++)
@@ -355,8 +514,25 @@ static int analysis_factor(int64_t n) {
     return (int)n;
 }
 
-static pg_status run_measures(const fid_field *pf, const fid_field *ef, pg_inspect_fidelity *out,
-                              pg_error *err) {
+/* Leave-one-out and completeness on the detail amplitude of both sides. */
+static pg_status run_detail(const fid_dct *dct, const fid_field *pd, const fid_field *ed,
+                            float *dist, pg_inspect_fidelity *out, pg_error *err) {
+    fid_db d;
+    pg_status st = db_build(dct, ed, &d, err);
+    if (st == PG_OK) {
+        out->detail_loo = measure(Q_LOO, dct, &d, pd, ed, dist);
+        db_free(&d);
+        st = db_build(dct, pd, &d, err);
+    }
+    if (st == PG_OK) {
+        out->detail_completeness = measure(Q_COMPLETE, dct, &d, pd, ed, dist);
+        db_free(&d);
+    }
+    return st;
+}
+
+static pg_status run_measures(const fid_field *pf, const fid_field *ef, const fid_field *pd,
+                              const fid_field *ed, pg_inspect_fidelity *out, pg_error *err) {
     fid_dct dct;
     dct_init(&dct);
     fid_db de, dp; /* exemplar and planet databases */
@@ -377,9 +553,14 @@ static pg_status run_measures(const fid_field *pf, const fid_field *ef, pg_inspe
         out->completeness = measure(Q_COMPLETE, &dct, &dp, pf, ef, dist);
         db_free(&dp);
     }
+    if (st == PG_OK) st = run_detail(&dct, pd, ed, dist, out, err);
     out->ratio = out->loo > 0 ? out->fidelity / out->loo : NAN;
     out->random_ratio = out->loo > 0 ? out->random / out->loo : NAN;
-    out->completeness_ratio = out->loo > 0 ? out->completeness / out->loo : NAN;
+    out->structure_completeness_ratio = out->loo > 0 ? out->completeness / out->loo : NAN;
+    out->detail_completeness_ratio =
+        out->detail_loo > 0 ? out->detail_completeness / out->detail_loo : NAN;
+    out->completeness_ratio =
+        fmax(out->structure_completeness_ratio, out->detail_completeness_ratio);
     free(dist);
     return st;
 }
@@ -395,15 +576,23 @@ pg_status pg_inspect_fidelity_compute(const pg_planet *p, const pg_exemplar *ex,
                             (long long)p->n, SIDE, SIDE);
     out->analysis_size = n;
     out->magnification = m;
-    fid_field pf = {0, NULL}, ef = {0, NULL};
-    pg_status st = exemplar_field(p, ex, n, &ef, err);
+    fid_field pf = {0, NULL, NULL}, ef = {0, NULL, NULL}, pd = {0, NULL, NULL},
+              ed = {0, NULL, NULL};
+    float *cube = NULL; /* the exemplar on a cube of the planet's size: both sides alike */
+    pg_status st = pg_inspect_exemplar_cube(p, p->n, ex, &cube, err);
+    fid_src es = packed_src(cube, p->n), ps = planet_src(p);
+    if (st == PG_OK) st = box_field(&es, m, &ef, err);
     if (st == PG_OK) st = planet_field(p, m, &pf, err);
     if (st == PG_OK) {
         out->height_scale = height_scale(&ef);
         scale_height(&ef, out->height_scale);
         scale_height(&pf, out->height_scale);
-        st = run_measures(&pf, &ef, out, err);
+        st = detail_field(&ps, m, out->height_scale, &pd, err);
     }
-    free(pf.px), free(ef.px);
+    if (st == PG_OK) st = detail_field(&es, m, out->height_scale, &ed, err);
+    free(cube);
+    pd.src = pf.src; /* planet entries are known by their sources */
+    if (st == PG_OK) st = run_measures(&pf, &ef, &pd, &ed, out, err);
+    free(pf.px), free(pf.src), free(ef.px), free(pd.px), free(ed.px);
     return st;
 }

@@ -37,11 +37,11 @@
 #define PATCH 48 /* lat-lon emulation: patch period in pixels of the exemplar grid */
 /* Fidelity gates, from the measurements in docs/inspect.md (Earth 0.86x, synthesized
  * default planet 0.78-0.90x, noise 3.8x, shuffled 8.0x leave-one-out). */
-#define FID_GATE_GOOD 1.0      /* a copy of the exemplar: at most leave-one-out */
-#define FID_GATE_BAD 2.0       /* noisy and shuffled controls: at least this */
+#define FID_GATE_GOOD PG_INSPECT_FIDELITY_GATE /* a copy of the exemplar passes */
+#define FID_GATE_BAD 2.0                       /* noisy and shuffled controls: at least this */
 #define FID_NOISE_ALBEDO 0.2   /* uniform +-0.2 sRGB per channel (+-51 grey levels) */
 #define FID_NOISE_HEIGHT_M 500 /* uniform +-500 m */
-#define FID_BLUR_SIGMA 4.0     /* planet texels (2 analysis texels) */
+#define FID_BLUR_SIGMA 2.0     /* planet texels (1 analysis texel) */
 static const double PI = 3.14159265358979323846;
 
 typedef struct fixture {
@@ -60,7 +60,9 @@ static int setup(void **state) {
     if (pg_exemplar_load(&o, &fx->ex, &err) != PG_OK ||
         pg_planet_alloc(&fx->earth, PG_CUBE_DEFAULT_PROJECTION, 4, 256, pg_ellipsoid_sphere(),
                         &err) != PG_OK ||
-        pg_planet_from_exemplar(&fx->earth, &fx->ex, 2, &err) != PG_OK) {
+        pg_planet_from_exemplar(&fx->earth, &fx->ex, 2, &err) != PG_OK ||
+        pg_planet_source_identity(&fx->earth, (int)fx->earth.n, fx->earth.projection, &err) !=
+            PG_OK) {
         fprintf(stderr, "%s\n", err.msg);
         return -1;
     }
@@ -321,9 +323,11 @@ static void test_seam_statistic(void **state) {
 
 static void print_fid(const char *what, const pg_inspect_fidelity *f) {
     printf("%-28s fidelity %.3f  loo %.3f  ratio %.3f  random %.3f (%.2fx)  completeness %.3f "
-           "(%.3fx)  [%d^2, m %d, %d queries, %d entries]\n",
+           "(%.3fx)  detail %.3f / loo %.3f (%.3fx)  [%d^2, m %d, %d queries, %d entries]\n",
            what, f->fidelity, f->loo, f->ratio, f->random, f->random_ratio, f->completeness,
-           f->completeness_ratio, f->analysis_size, f->magnification, f->queries, f->database);
+           f->structure_completeness_ratio, f->detail_completeness, f->detail_loo,
+           f->detail_completeness_ratio, f->analysis_size, f->magnification, f->queries,
+           f->database);
 }
 
 static void copy_geometry(const pg_planet *src, pg_planet *dst) {
@@ -332,6 +336,15 @@ static void copy_geometry(const pg_planet *src, pg_planet *dst) {
         pg_planet_alloc(dst, src->projection, src->tiles, src->tile_size, src->ellipsoid, &err),
         PG_OK);
     dst->sea_level = src->sea_level;
+    /* every control keeps the copy's coordinate map: its texels still come from there */
+    if (pg_planet_has_source(src)) {
+        assert_int_equal(
+            pg_planet_source_alloc(dst, src->source.face_size, src->source.projection, &err),
+            PG_OK);
+        for (int f = 0; f < PG_CUBE_NFACES; f++)
+            memcpy(dst->source.coords[f], src->source.coords[f],
+                   (size_t)(src->n * src->n) * sizeof(uint32_t));
+    }
 }
 
 /* Uniform hashed noise in [-1, 1). */
@@ -399,15 +412,19 @@ static void test_earth_scores_like_the_exemplar(void **state) {
     assert_int_equal(e->magnification, 2);
     assert_true(e->loo > 0 && e->fidelity > 0);
     assert_true(e->ratio <= FID_GATE_GOOD);
+    assert_true(e->completeness_ratio <= FID_GATE_GOOD);
+    /* with its own sources excluded, a copy is about as close to the exemplar as the
+     * exemplar is to the rest of itself */
+    assert_true(fabs(e->ratio - 1) < 0.1 && fabs(e->completeness_ratio - 1) < 0.1);
     /* structureless texture is far from everything */
     assert_true(e->random_ratio >= 5);
 }
 
 /* Negative controls: structure destroyed (shuffled) or buried in texel noise must
- * score clearly worse than the gate. Blur is reported, and shows the measure's blind
- * spot: a blurred neighbourhood is close to the exemplar's own smooth ones (ocean,
- * plains), so fidelity *improves*; only the reverse direction (completeness: sharp
- * exemplar neighbourhoods missing from the planet) worsens, and only a little. */
+ * score clearly worse than the gate. Blur shows the one-sided measure's blind spot: a
+ * blurred neighbourhood is close to the exemplar's own smooth ones (ocean, plains), so
+ * fidelity *improves*; completeness on the detail amplitude (sharp exemplar
+ * neighbourhoods whose detail the planet lacks) catches it. */
 static void test_negative_controls(void **state) {
     fixture *fx = *state;
     const pg_inspect_fidelity *e = earth_fid(fx);
@@ -425,14 +442,18 @@ static void test_negative_controls(void **state) {
     print_fid("Earth on the cube", e);
     print_fid("shuffled texels (control)", &fs);
     print_fid("texel noise (control)", &fn);
-    print_fid("blurred sigma 4 (control)", &fb);
+    print_fid("blurred sigma 2 (control)", &fb);
     /* the baselines come from the exemplar alone: identical for every planet */
     assert_true(fs.loo == e->loo && fn.random == e->random && fb.loo == e->loo);
     assert_true(fs.ratio >= FID_GATE_BAD && fs.ratio >= 0.5 * fs.random_ratio);
     assert_true(fn.ratio >= FID_GATE_BAD);
     assert_true(fs.completeness_ratio >= FID_GATE_BAD && fn.completeness_ratio >= FID_GATE_BAD);
-    /* blur: fidelity does not see it, completeness does (direction only) */
-    assert_true(fb.completeness_ratio > e->completeness_ratio);
+    /* blur: fidelity does not see it (smooth neighbourhoods match the exemplar's smooth
+     * ones), and neither does the L2 completeness; the detail amplitude does, and a copy
+     * blurred by 2 texels fails the completeness gate */
+    assert_true(fb.ratio < FID_GATE_GOOD);
+    assert_true(fb.detail_completeness_ratio > e->detail_completeness_ratio);
+    assert_true(fb.completeness_ratio > FID_GATE_GOOD);
 }
 
 /* The same figures, bit for bit, with 1 and 2 threads. */

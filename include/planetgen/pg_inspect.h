@@ -154,16 +154,28 @@ pg_status pg_inspect_exemplar_cube(const pg_planet *p, int64_t n, const pg_exemp
  * its queries costs ~10x more (far from everything, the lower bound prunes little) */
 #define PG_INSPECT_FID_RANDOM_QUERIES 32
 #define PG_INSPECT_FID_PREFIX 16 /* DCT coefficients in the pruning lower bound */
+/* Matches within this many analysis texels of a query's own exemplar position (its
+ * source, for a planet texel) do not count, in every direction of the search: a copy
+ * is not fidelity. 8 texels is well beyond a neighbourhood's radius (2), so no
+ * overlapping neighbourhood is found, and well below a face (512). */
+#define PG_INSPECT_FID_EXCLUDE 8
+/* Gates (docs/inspect.md, "Neighbourhood fidelity"): fidelity_ratio and
+ * completeness_ratio each <= this. */
+#define PG_INSPECT_FIDELITY_GATE 1.5
 
 typedef struct pg_inspect_fidelity {
-    double fidelity;           /* planet: mean nearest-exemplar distance (Lab units) */
-    double loo;                /* exemplar leave-one-out: the same, exemplar against itself */
-    double random;             /* neighbourhoods of shuffled exemplar texels */
-    double ratio;              /* fidelity / loo: ~1 = as close as the exemplar is to itself */
-    double random_ratio;       /* random / loo: where structureless texture lands */
-    double completeness;       /* the other direction: exemplar neighbourhoods (the leave-one-out
-                                * queries) against the nearest planet neighbourhood */
-    double completeness_ratio; /* completeness / loo */
+    double fidelity;     /* planet: mean nearest-exemplar distance (Lab units) */
+    double loo;          /* exemplar leave-one-out: the same, exemplar against itself */
+    double random;       /* neighbourhoods of shuffled exemplar texels */
+    double ratio;        /* fidelity / loo: ~1 = as close as the exemplar is to itself */
+    double random_ratio; /* random / loo: where structureless texture lands */
+    double completeness; /* the other direction: exemplar neighbourhoods (the leave-one-out
+                          * queries) against the nearest planet neighbourhood */
+    double structure_completeness_ratio; /* completeness / loo */
+    /* The same search on the local detail amplitude (pg_inspect_fidelity.c): phase-free,
+     * so it sees missing detail (blur) that the L2 match above prefers */
+    double detail_loo, detail_completeness, detail_completeness_ratio;
+    double completeness_ratio; /* max(structure_completeness_ratio, detail_completeness_ratio) */
     int analysis_size;         /* texels per face edge the figures were computed at */
     int magnification;         /* planet texels per analysis texel (box-averaged) */
     int queries;               /* planet and leave-one-out (6 x PG_INSPECT_FID_QUERIES) */
