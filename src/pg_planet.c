@@ -2,11 +2,19 @@
  *
  * Faces are stored bottom-up (row 0 = -v edge) to match the cube frames, while image
  * files are top-down; every read and write flips rows, so a face PNG shows north up
- * on the equatorial faces, as a user opening it expects. */
+ * on the equatorial faces, as a user opening it expects.
+ *
+ * The coordinate map (source.exr, optional) is streamed a chunk of rows at a time
+ * through pg_exr's integer parts, unpacked into channels face, u, v, so that the file
+ * holds no packing convention of ours and any EXR tool shows it. planet.json names
+ * the file and the exemplar cube the coordinates refer to; a map that planet.json
+ * names must load completely and in range, or the planet is refused: the measures
+ * that read it (pg_inspect_copy.h) index the exemplar cube with it. */
 #include "planetgen/pg_planet.h"
 
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_json.h"
+#include "planetgen/pg_synth.h"
 #include "pg_planet_meta.h"
 
 #include <math.h>
@@ -148,6 +156,8 @@ pg_json *pg_planet_meta_json(const pg_planet *p) {
     pg_json_set_string(j, "seed", seed); /* a string: JSON numbers lose 64-bit seeds */
     pg_json_set_number(j, "sea_level_m", p->sea_level);
     pg_json_set_string(j, "exemplar", p->exemplar);
+    if (isfinite(p->closed_land_share_before_final))
+        pg_json_set_number(j, "closed_land_share_before_final", p->closed_land_share_before_final);
     return j;
 }
 
@@ -168,6 +178,37 @@ pg_status pg_planet_write_json(pg_json *j, const char *name, pg_planet_path_fn p
     return st;
 }
 
+/* ---- the coordinate map: source.exr ---- */
+
+#define SOURCE_NAME "source.exr"
+static const char *const source_channels[3] = {"face", "u", "v"};
+
+/* File rows y0.. of face `part` (top-down) as interleaved face, u, v. */
+static void fill_source_rows(int part, int y0, int rows, uint32_t *buf, void *user) {
+    const pg_planet *p = user;
+    const int64_t n = p->n;
+    for (int r = 0; r < rows; r++) {
+        const uint32_t *src = p->source.coords[part] + (size_t)(n - 1 - (y0 + r)) * (size_t)n;
+        uint32_t *dst = buf + (size_t)r * (size_t)n * 3;
+        for (int64_t x = 0; x < n; x++) {
+            dst[3 * x] = (uint32_t)pg_synth_face(src[x]);
+            dst[3 * x + 1] = (uint32_t)pg_synth_u(src[x]);
+            dst[3 * x + 2] = (uint32_t)pg_synth_v(src[x]);
+        }
+    }
+}
+
+static pg_status save_source(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                             pg_error *err) {
+    const char *names[PG_CUBE_NFACES];
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        names[f] = pg_cube_face_name(f);
+    const char *path = path_for(SOURCE_NAME, user);
+    if (!path) return pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+    return pg_exr_write_uint_parts(path, PG_CUBE_NFACES, names, (int)p->n, (int)p->n, 3,
+                                   source_channels, fill_source_rows, (void *)p, err);
+}
+
 static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                            pg_error *err) {
     pg_json *j = pg_planet_meta_json(p);
@@ -175,6 +216,13 @@ static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void 
         pg_json *faces = pg_json_set_array(j, "faces");
         for (int f = 0; f < PG_CUBE_NFACES; f++)
             pg_json_push_string(faces, pg_cube_face_name(f));
+        if (pg_planet_has_source(p)) {
+            pg_json *src = pg_json_set_object(j, "source");
+            pg_json_set_string(src, "file", SOURCE_NAME);
+            pg_json_set_number(src, "exemplar_face_size", p->source.face_size);
+            pg_json_set_string(src, "exemplar_projection",
+                               pg_cube_projection_name(p->source.projection));
+        }
     }
     return pg_planet_write_json(j, PG_PLANET_META_NAME, path_for, user, err);
 }
@@ -183,6 +231,7 @@ pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *u
                          pg_error *err) {
     pg_status st = save_albedo(p, path_for, user, err);
     if (st == PG_OK) st = save_height(p, path_for, user, err);
+    if (st == PG_OK && pg_planet_has_source(p)) st = save_source(p, path_for, user, err);
     if (st == PG_OK) st = save_meta(p, path_for, user, err);
     return st;
 }
@@ -233,6 +282,75 @@ static pg_status load_faces(const char *dir, pg_planet *p, pg_error *err) {
     return PG_OK;
 }
 
+/* Reading one face of source.exr: rows arrive top-down and are checked against the
+ * exemplar cube planet.json names before they are packed. */
+typedef struct source_reader {
+    pg_planet *p;
+    int face;
+    const char *path;
+} source_reader;
+
+static pg_status take_source_rows(int y0, int rows, const uint32_t *buf, void *user,
+                                  pg_error *err) {
+    const source_reader *r = user;
+    const int64_t n = r->p->n;
+    const uint32_t e = (uint32_t)r->p->source.face_size;
+    for (int k = 0; k < rows; k++) {
+        const uint32_t *row = buf + (size_t)k * (size_t)n * 3;
+        uint32_t *dst = r->p->source.coords[r->face] + (size_t)(n - 1 - (y0 + k)) * (size_t)n;
+        for (int64_t x = 0; x < n; x++) {
+            const uint32_t *c = row + 3 * x;
+            if (c[0] >= PG_CUBE_NFACES || c[1] >= e || c[2] >= e)
+                return pg_error_set(err, PG_ERR_BADINPUT,
+                                    "%s: part %s, pixel (%lld, %d): (face %u, u %u, v %u) outside "
+                                    "faces 0..5 and texels 0..%u of the exemplar cube",
+                                    r->path, pg_cube_face_name(r->face), (long long)x, y0 + k, c[0],
+                                    c[1], c[2], e - 1);
+            dst[x] = pg_synth_pack((int)c[0], (int)c[1], (int)c[2]);
+        }
+    }
+    return PG_OK;
+}
+
+static pg_status load_source(const char *dir, const pg_planet_meta *meta, pg_planet *p,
+                             pg_error *err) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, meta->source_file);
+    pg_cube_projection proj;
+    pg_status st = pg_cube_projection_parse(
+        meta->source_projection, PG_PLANET_META_NAME " source.exemplar_projection", &proj, err);
+    if (st == PG_OK) st = pg_planet_source_alloc(p, meta->source_face_size, proj, err);
+    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++) {
+        source_reader r = {p, f, path};
+        st = pg_exr_read_uint_part(path, pg_cube_face_name(f), (int)p->n, (int)p->n, 3,
+                                   source_channels, take_source_rows, &r, err);
+    }
+    if (st != PG_OK) pg_planet_source_free(p);
+    return st;
+}
+
+/* Every file the planet directory must hold: the faces, height.exr and the map that
+ * planet.json names. The error names the first one missing. */
+static pg_status check_files(const char *dir, const pg_planet_meta *meta, pg_error *err) {
+    char path[4096];
+    struct stat st;
+    for (int f = 0; f <= PG_CUBE_NFACES + 1; f++) {
+        char name[300];
+        if (f < PG_CUBE_NFACES)
+            pg_planet_albedo_name(f, name, sizeof name);
+        else if (f == PG_CUBE_NFACES)
+            snprintf(name, sizeof name, "%s", PG_PLANET_HEIGHT_NAME);
+        else if (meta->has_source)
+            snprintf(name, sizeof name, "%s", meta->source_file);
+        else
+            break;
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        if (stat(path, &st) != 0)
+            return pg_error_set(err, PG_ERR_BADINPUT, "%s: missing %s", dir, name);
+    }
+    return PG_OK;
+}
+
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
     memset(p, 0, sizeof *p);
     struct stat st;
@@ -247,16 +365,8 @@ pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
     pg_status s = pg_planet_meta_read(path, &meta, err);
     if (s != PG_OK) return s;
     /* check every expected file first, so the error names the missing one */
-    for (int f = 0; f <= PG_CUBE_NFACES; f++) {
-        char name[64];
-        if (f < PG_CUBE_NFACES)
-            pg_planet_albedo_name(f, name, sizeof name);
-        else
-            snprintf(name, sizeof name, "%s", PG_PLANET_HEIGHT_NAME);
-        snprintf(path, sizeof path, "%s/%s", dir, name);
-        if (stat(path, &st) != 0)
-            return pg_error_set(err, PG_ERR_BADINPUT, "%s: missing %s", dir, name);
-    }
+    s = check_files(dir, &meta, err);
+    if (s != PG_OK) return s;
     /* The face images must have the size planet.json claims, checked from their
      * headers before the planet is allocated: a damaged or hostile planet.json must
      * not make us allocate terabytes. */
@@ -279,7 +389,9 @@ pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
     p->seed = meta.seed;
     p->sea_level = (float)meta.sea_level;
     snprintf(p->exemplar, sizeof p->exemplar, "%s", meta.exemplar);
+    p->closed_land_share_before_final = meta.closed_land_share_before_final;
     s = load_faces(dir, p, err);
+    if (s == PG_OK && meta.has_source) s = load_source(dir, &meta, p, err);
     if (s != PG_OK) pg_planet_free(p);
     return s;
 }

@@ -4,6 +4,8 @@
 
 #include "planetgen/pg_geodesy.h"
 
+#include <stdbool.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -16,6 +18,14 @@ typedef struct pg_planet_meta {
     uint64_t seed;
     double sea_level;
     char exemplar[512];
+    /* optional "source" object: the coordinate map's file (a plain name inside the
+     * planet directory), exemplar face size and projection name; has_source false
+     * when planet.json has none */
+    bool has_source;
+    char source_file[256];
+    int source_face_size;
+    char source_projection[32];
+    double closed_land_share_before_final; /* NaN when absent */
 } pg_planet_meta;
 
 /* Parse and validate planet.json; every problem names the file and the key. */

@@ -30,6 +30,40 @@ static bool get_str(const json &j, const char *key, char *buf, size_t size) {
     return true;
 }
 
+// The optional "source" object (the coordinate map, pg_planet.h): a plain file name,
+// the exemplar face size (1..8192, the packed coordinates' range) and a projection
+// name, checked by the caller against the known projections.
+static pg_status read_source(const json &j, const char *path, pg_planet_meta *m, pg_error *err) {
+    auto it = j.find("source");
+    if (it == j.end()) return PG_OK;
+    double e;
+    if (!it->is_object() || !get_str(*it, "file", m->source_file, sizeof m->source_file) ||
+        !m->source_file[0] || std::strchr(m->source_file, '/') ||
+        !std::strcmp(m->source_file, "..") || !std::strcmp(m->source_file, "."))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: source.file missing or not a file name in the planet directory",
+                            path);
+    if (!get_num(*it, "exemplar_face_size", 1, 8192, &e) || e != std::floor(e))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: source.exemplar_face_size missing or not in 1..8192", path);
+    if (!get_str(*it, "exemplar_projection", m->source_projection, sizeof m->source_projection))
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: source.exemplar_projection missing", path);
+    m->source_face_size = (int)e;
+    m->has_source = true;
+    return PG_OK;
+}
+
+// Optional; when present, a share in [0, 1].
+static pg_status read_closed_share(const json &j, const char *path, pg_planet_meta *m,
+                                   pg_error *err) {
+    const char *key = "closed_land_share_before_final";
+    m->closed_land_share_before_final = NAN;
+    if (j.find(key) == j.end()) return PG_OK;
+    if (!get_num(j, key, 0, 1, &m->closed_land_share_before_final))
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: %s not a number in [0, 1]", path, key);
+    return PG_OK;
+}
+
 extern "C" pg_status pg_planet_meta_read(const char *path, pg_planet_meta *m, pg_error *err) {
     std::memset(m, 0, sizeof *m);
     std::ifstream in(path);
@@ -64,6 +98,9 @@ extern "C" pg_status pg_planet_meta_read(const char *path, pg_planet_meta *m, pg
     m->seed = std::strtoull(seed, &end, 10);
     if (!*seed || *end) return pg_error_set(err, PG_ERR_BADINPUT, "%s: seed not a number", path);
     get_str(j, "exemplar", m->exemplar, sizeof m->exemplar);
+    pg_status st = read_source(j, path, m, err);
+    if (st == PG_OK) st = read_closed_share(j, path, m, err);
+    if (st != PG_OK) return st;
     m->format_version = (int)v[0];
     m->ellipsoid.a = v[1];
     m->ellipsoid.f = v[2];

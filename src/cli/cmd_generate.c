@@ -1,6 +1,6 @@
 /* cmd_generate.c - `planetgen generate`: synthesize a whole planet by example on the cube
  * sphere (pg_planet_synth.h) and write the planet directory (pg_planet_save: per-face
- * albedo PNGs, height.exr, planet.json), the export module's previews (equirect
+ * albedo PNGs, height.exr, source.exr, planet.json), the export module's previews (equirect
  * albedo.png and relief.png, globe_*.png) and planet.glb (pg_export.h), and a JSON
  * report of parameters, stage timings and quality figures.
  *
@@ -27,6 +27,7 @@
 #define GEN_LEVELS 6                       /* analysed levels of the exemplar (pg_synth default) */
 #define GEN_SOURCE_BYTES 4e8               /* the loaded source images */
 #define GEN_BYTES_PER_EXEMPLAR_TEXEL 200.0 /* preparing the exemplar cube, at its peak */
+#define GEN_MAP_BYTES_PER_TEXEL 4.0        /* the coordinate map (source.exr) */
 
 typedef struct gen_args {
     const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
@@ -125,9 +126,13 @@ static double gen_exemplar_bytes(const gen_args *a) {
     return GEN_SOURCE_BYTES + GEN_BYTES_PER_EXEMPLAR_TEXEL * 6.0 * e * e;
 }
 
+/* with_map: the single-file layout keeps the coordinate map, 4 bytes per texel held
+ * from the end of the synthesis to the end of the run. */
 static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
-                        double *need_out) {
-    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a);
+                        bool with_map, double *need_out) {
+    double n = (double)p->tiles * p->tile_size;
+    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a) +
+                  (with_map ? GEN_MAP_BYTES_PER_TEXEL * 6.0 * n * n : 0);
     *need_out = need;
     char what[96];
     snprintf(what, sizeof what, "--tiles %ld --tile-size %ld", a->tiles, a->tile_size);
@@ -153,6 +158,26 @@ static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_
 }
 
 /* ---- outputs ---- */
+
+/* The synthesis coordinates (6 N^2, global texel ids) become the planet's coordinate
+ * map (pg_planet.h; source.exr), orientation cleared; coords is freed. Faces are
+ * copied last to first and the raw buffer shrunk behind each copy, so that the two
+ * together hold little more than one copy. The tiled layout keeps no map: its tiles
+ * are written one file each (pg_planet_save_tiles) and carry none. */
+static pg_status adopt_coords(pg_planet *planet, int face_size, uint32_t *coords, pg_error *err) {
+    pg_status st = pg_planet_source_alloc(planet, face_size, PG_CUBE_DEFAULT_PROJECTION, err);
+    const size_t nn = (size_t)planet->n * (size_t)planet->n;
+    for (int f = PG_CUBE_NFACES - 1; st == PG_OK && f >= 0; f--) {
+        const uint32_t *src = coords + (size_t)f * nn;
+        uint32_t *dst = planet->source.coords[f];
+        for (size_t i = 0; i < nn; i++)
+            dst[i] = pg_synth_with_orient(src[i], 0);
+        uint32_t *shrunk = f > 0 ? realloc(coords, (size_t)f * nn * sizeof *coords) : NULL;
+        if (shrunk) coords = shrunk; /* a failed shrink keeps the old block */
+    }
+    free(coords);
+    return st;
+}
 
 typedef struct path_ctx {
     pg_cli *cli;
@@ -425,7 +450,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     /* distributed: depression counts only where the final pass needs the whole level */
     if (g->size > 1 && !(p.pits && p.final_pits)) p.pit_stats = false;
     double need;
-    int rc = pg_mpi_max_int(g->mpi, check_memory(cli, a, &p, &need));
+    int rc = pg_mpi_max_int(g->mpi, check_memory(cli, a, &p, !g->tiled, &need));
     if (!rc) rc = rank0_first_outdir(cli, a, g);
     if (rc) return rc;
     pg_synth_exemplar *ex = NULL;
@@ -447,11 +472,18 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_planet planet;
     pg_planet_synth_info si;
     pg_cli_stage_begin(cli, "synthesize");
-    pg_status st = pg_planet_synth_run(ex, &p, &planet, NULL, &si, &err);
+    uint32_t *coords = NULL; /* the single-file layout keeps the coordinate map */
+    pg_status st = pg_planet_synth_run(ex, &p, &planet, g->tiled ? NULL : &coords, &si, &err);
     const gen_scale sc = {ex->face_size, pg_planet_synth_magnification(ex, &p),
                           pg_planet_synth_keep_levels(ex, &p)}; /* ex is freed next */
     pg_cli_stage_end(cli);
     pg_synth_exemplar_free(ex);
+    if (!st && coords) {
+        st = adopt_coords(&planet, sc.face, coords, &err);
+        if (st) pg_planet_free(&planet);
+    } else {
+        free(coords);
+    }
     if (st) return fail_all(cli, g, &err);
     pg_inspect_seams seams = {0};
     /* the seam figures read the whole planet: not in a distributed run */
