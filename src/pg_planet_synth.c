@@ -23,6 +23,7 @@
  * the sub-pass did not write, or runs on the whole planet with a deterministic
  * algorithm. */
 #include "planetgen/pg_planet_synth.h"
+#include "planetgen/pg_drainage.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -984,7 +985,10 @@ static pg_status final_stats(const ctx *c, const pg_pits_topo *topo, const float
     return pg_pits_stats_compute(topo, H, o, area, out, err);
 }
 
-static pg_status final_pits(ctx *c, float *H, pg_error *err) {
+/* whole: H holds every texel, not only this process's tiles. closed receives the
+ * closed-land share of H before the final pass (pg_drainage.h), a whole-planet measure:
+ * taken with the depression counts (pit_stats) when H is whole, NaN otherwise. */
+static pg_status final_pits(ctx *c, float *H, bool whole, double *closed, pg_error *err) {
     const pg_planet_synth_params *p = c->p;
     pg_pits_topo topo;
     pg_status st = pg_pits_topo_cube(&topo, (uint32_t)c->Nout, err);
@@ -994,7 +998,10 @@ static pg_status final_pits(ctx *c, float *H, pg_error *err) {
     area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
                     (6.0 * (double)c->Nout * (double)c->Nout);
     double t0 = pg_synth_now();
-    if (p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->before, err);
+    if (p->pit_stats && whole)
+        st = pg_drainage_closed_land_share(H, c->Nout, PG_CUBE_DEFAULT_PROJECTION, NULL,
+                                           c->ex->sea_level, closed, err);
+    if (!st && p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->before, err);
     double t1 = pg_synth_now();
     if (!st && p->pits && p->final_pits) st = final_remove(c, &topo, H, &o, err);
     double t2 = pg_synth_now();
@@ -1054,6 +1061,8 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     info->synth_seconds = pg_synth_now() - t0;
     size_t px = (size_t)6 * c.Nout * c.Nout;
     float *H = NULL;
+    bool whole = false;
+    double closed = NAN;
     if (!st && !(H = malloc(px * sizeof *H)))
         st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
     if (!st) {
@@ -1062,16 +1071,17 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
          * (docs/mpi.md); otherwise the magnification needs the two texel rings around
          * this process's tiles, and the hooks exchange what the pits need. */
         bool all = !dist_final(&c) && ((p->pits && p->final_pits) || p->pit_stats);
+        whole = !p->dist || all;
         st = exchange(&c, 0, &L, all ? -1 : 2, err);
         if (!st) {
             border_refresh(&c.bm, &L); /* the magnification reads across face seams */
-            finest_heights(&c, &L, H, !p->dist || all);
+            finest_heights(&c, &L, H, whole);
         }
     }
     if (!st) {
         free(L.V); /* S stays for the albedo */
         L.V = NULL;
-        st = final_pits(&c, H, err);
+        st = final_pits(&c, H, whole, &closed, err);
     }
     t0 = pg_synth_now();
     if (!st)
@@ -1082,6 +1092,7 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     if (!st) {
         out->seed = p->synth.seed;
         out->sea_level = ex->sea_level;
+        out->closed_land_share_before_final = closed;
         render(&c, &L, H, out, coords_out ? *coords_out : NULL);
     }
     info->render_seconds = pg_synth_now() - t0;
