@@ -61,8 +61,11 @@
 #include "pg_synth_internal.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define R PG_INSPECT_FID_RADIUS
 #define SIDE (2 * R + 1)
@@ -302,6 +305,29 @@ static float highpass2(const float *face, int64_t n, int64_t x, int64_t y, int c
     return hp * hp;
 }
 
+/* Box mean of radius 2 along x (step 1) or y (step n) of one channel-interleaved face,
+ * edges clamped: a running sum, so the cost does not grow with the radius. */
+static void box5(const float *in, int64_t n, bool along_y, float *out) {
+#pragma omp parallel for schedule(static)
+    for (int64_t line = 0; line < n; line++)
+        for (int c = 0; c < CH; c++) {
+            double s = 0;
+            for (int64_t k = -2; k <= 2; k++) {
+                int64_t t = k < 0 ? 0 : k;
+                s += along_y ? in[(size_t)(t * n + line) * CH + c]
+                             : in[(size_t)(line * n + t) * CH + c];
+            }
+            for (int64_t k = 0; k < n; k++) {
+                size_t at_k = along_y ? (size_t)(k * n + line) : (size_t)(line * n + k);
+                out[at_k * CH + c] = (float)(s / 5);
+                int64_t add = k + 3 >= n ? n - 1 : k + 3, sub = k - 2 < 0 ? 0 : k - 2;
+                size_t ia = along_y ? (size_t)(add * n + line) : (size_t)(line * n + add);
+                size_t is = along_y ? (size_t)(sub * n + line) : (size_t)(line * n + sub);
+                s += (double)in[ia * CH + c] - in[is * CH + c];
+            }
+        }
+}
+
 /* The detail amplitude at full resolution, D = sqrt of the 5 x 5 box mean of the
  * squared high-pass per face (edges clamped) and channel, box-averaged by m into the
  * analysis grid. It is measured where the detail is, before the analysis grid's own
@@ -311,41 +337,39 @@ static pg_status detail_field(const fid_src *sr, int m, double hscale, fid_field
     int64_t N = sr->n;
     int n = (int)(N / m);
     size_t nn = (size_t)(N * N);
-    float *lab = malloc(nn * CH * sizeof *lab), *hp2 = malloc(nn * CH * sizeof *hp2);
+    float *a = malloc(nn * CH * sizeof *a), *b = malloc(nn * CH * sizeof *b);
     out->n = n;
     out->src = NULL;
     out->px = calloc((size_t)6 * n * n * CH, sizeof *out->px);
-    if (!lab || !hp2 || !out->px) {
-        free(lab), free(hp2), free(out->px);
+    if (!a || !b || !out->px) {
+        free(a), free(b), free(out->px);
         out->px = NULL;
         return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory for the detail field");
     }
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
-        full_face(sr, f, hscale, lab);
+        full_face(sr, f, hscale, a);
 #pragma omp parallel for schedule(static)
         for (int64_t y = 0; y < N; y++)
             for (int64_t x = 0; x < N; x++)
                 for (int c = 0; c < CH; c++)
-                    hp2[(size_t)(y * N + x) * CH + c] = highpass2(lab, N, x, y, c);
+                    b[(size_t)(y * N + x) * CH + c] = highpass2(a, N, x, y, c);
+        box5(b, N, false, a);
+        box5(a, N, true, b);
+        double w = 1.0 / ((double)m * m);
 #pragma omp parallel for schedule(static)
         for (int y = 0; y < n; y++)
             for (int x = 0; x < n; x++)
                 for (int c = 0; c < CH; c++) {
                     double acc = 0;
                     for (int j = 0; j < m; j++)
-                        for (int i = 0; i < m; i++) {
-                            float e = 0;
-                            int64_t X = (int64_t)x * m + i, Y = (int64_t)y * m + j;
-                            for (int b = -2; b <= 2; b++)
-                                for (int a = -2; a <= 2; a++)
-                                    e += at(hp2, N, X + a, Y + b, c);
-                            acc += sqrt(e / 25);
-                        }
-                    out->px[(((size_t)f * n + y) * n + x) * CH + c] =
-                        (float)(acc / ((double)m * m));
+                        for (int i = 0; i < m; i++)
+                            acc += sqrt(fmax(
+                                0,
+                                b[((size_t)(y * m + j) * (size_t)N + (size_t)x * m + i) * CH + c]));
+                    out->px[(((size_t)f * n + y) * n + x) * CH + c] = (float)(acc * w);
                 }
     }
-    free(lab), free(hp2);
+    free(a), free(b);
     return PG_OK;
 }
 
@@ -507,53 +531,31 @@ static double measure(query_kind kind, const fid_dct *dct, const fid_db *d, cons
     return sum / nq;
 }
 
-/* The smallest box factor m dividing n with n / m <= PG_INSPECT_FID_FACE. */
-static int analysis_factor(int64_t n) {
-    for (int64_t m = 1; m <= n; m++)
-        if (n % m == 0 && n / m <= PG_INSPECT_FID_FACE) return (int)m;
-    return (int)n;
-}
-
-/* Leave-one-out and completeness on the detail amplitude of both sides. */
-static pg_status run_detail(const fid_dct *dct, const fid_field *pd, const fid_field *ed,
-                            float *dist, pg_inspect_fidelity *out, pg_error *err) {
-    fid_db d;
-    pg_status st = db_build(dct, ed, &d, err);
-    if (st == PG_OK) {
-        out->detail_loo = measure(Q_LOO, dct, &d, pd, ed, dist);
-        db_free(&d);
-        st = db_build(dct, pd, &d, err);
-    }
-    if (st == PG_OK) {
-        out->detail_completeness = measure(Q_COMPLETE, dct, &d, pd, ed, dist);
-        db_free(&d);
-    }
-    return st;
-}
-
-static pg_status run_measures(const fid_field *pf, const fid_field *ef, const fid_field *pd,
-                              const fid_field *ed, pg_inspect_fidelity *out, pg_error *err) {
+/* The searches that read the planet: fidelity against the exemplar's database,
+ * completeness against the planet's, on the analysis field and on the detail
+ * amplitude. The baselines are already in out. */
+static pg_status planet_measures(const fid_field *pf, const fid_field *ef, const fid_field *pd,
+                                 const fid_field *ed, pg_inspect_fidelity *out, pg_error *err) {
     fid_dct dct;
     dct_init(&dct);
-    fid_db de, dp; /* exemplar and planet databases */
+    fid_db d;
     float *dist = malloc((size_t)6 * PG_INSPECT_FID_QUERIES * sizeof *dist);
     pg_status st = dist ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory");
-    if (st == PG_OK) st = db_build(&dct, ef, &de, err);
+    if (st == PG_OK) st = db_build(&dct, ef, &d, err);
     if (st == PG_OK) {
-        out->database = (int)de.count;
-        out->queries = query_count(Q_PLANET);
-        out->random_queries = query_count(Q_RANDOM);
-        out->fidelity = measure(Q_PLANET, &dct, &de, pf, ef, dist);
-        out->loo = measure(Q_LOO, &dct, &de, pf, ef, dist);
-        out->random = measure(Q_RANDOM, &dct, &de, pf, ef, dist);
-        db_free(&de);
-        st = db_build(&dct, pf, &dp, err);
+        out->fidelity = measure(Q_PLANET, &dct, &d, pf, ef, dist);
+        db_free(&d);
+        st = db_build(&dct, pf, &d, err);
     }
     if (st == PG_OK) {
-        out->completeness = measure(Q_COMPLETE, &dct, &dp, pf, ef, dist);
-        db_free(&dp);
+        out->completeness = measure(Q_COMPLETE, &dct, &d, pf, ef, dist);
+        db_free(&d);
+        st = db_build(&dct, pd, &d, err);
     }
-    if (st == PG_OK) st = run_detail(&dct, pd, ed, dist, out, err);
+    if (st == PG_OK) {
+        out->detail_completeness = measure(Q_COMPLETE, &dct, &d, pd, ed, dist);
+        db_free(&d);
+    }
     out->ratio = out->loo > 0 ? out->fidelity / out->loo : NAN;
     out->random_ratio = out->loo > 0 ? out->random / out->loo : NAN;
     out->structure_completeness_ratio = out->loo > 0 ? out->completeness / out->loo : NAN;
@@ -565,34 +567,188 @@ static pg_status run_measures(const fid_field *pf, const fid_field *ef, const fi
     return st;
 }
 
-pg_status pg_inspect_fidelity_compute(const pg_planet *p, const pg_exemplar *ex,
-                                      pg_inspect_fidelity *out, pg_error *err) {
-    memset(out, 0, sizeof *out);
-    int m = analysis_factor(p->n), n = (int)(p->n / m);
-    if (n < 2 * R + 2)
+/* ---- the exemplar's side ---- */
+
+struct pg_inspect_fid_exemplar {
+    int64_t N; /* planet face size it was made for */
+    int n, m;  /* analysis face size, box factor */
+    int projection;
+    double height_scale, loo, random, detail_loo;
+    int database;
+    fid_field ef, ed; /* analysis field and detail amplitude, height scaled */
+};
+
+/* The figures that only read the exemplar: leave-one-out and random on the analysis
+ * field, leave-one-out on the detail amplitude. */
+static pg_status exemplar_baselines(pg_inspect_fid_exemplar *fx, pg_error *err) {
+    fid_dct dct;
+    dct_init(&dct);
+    fid_db d;
+    float *dist = malloc((size_t)6 * PG_INSPECT_FID_QUERIES * sizeof *dist);
+    pg_status st = dist ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory");
+    if (st == PG_OK) st = db_build(&dct, &fx->ef, &d, err);
+    if (st == PG_OK) {
+        fx->database = (int)d.count;
+        fx->loo = measure(Q_LOO, &dct, &d, NULL, &fx->ef, dist);
+        fx->random = measure(Q_RANDOM, &dct, &d, NULL, &fx->ef, dist);
+        db_free(&d);
+        st = db_build(&dct, &fx->ed, &d, err);
+    }
+    if (st == PG_OK) {
+        fx->detail_loo = measure(Q_LOO, &dct, &d, NULL, &fx->ed, dist);
+        db_free(&d);
+    }
+    free(dist);
+    return st;
+}
+
+void pg_inspect_fid_exemplar_free(pg_inspect_fid_exemplar *fx) {
+    if (!fx) return;
+    free(fx->ef.px), free(fx->ed.px);
+    free(fx);
+}
+
+/* The smallest box factor m dividing n with n / m <= PG_INSPECT_FID_FACE. */
+static int analysis_factor(int64_t n) {
+    for (int64_t m = 1; m <= n; m++)
+        if (n % m == 0 && n / m <= PG_INSPECT_FID_FACE) return (int)m;
+    return (int)n;
+}
+
+static pg_status check_size(int64_t N, pg_error *err) {
+    int m = analysis_factor(N);
+    if (N / m < 2 * R + 2)
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "fidelity: faces of %lld texels are too small for %dx%d "
                             "neighbourhoods",
-                            (long long)p->n, SIDE, SIDE);
-    out->analysis_size = n;
-    out->magnification = m;
-    fid_field pf = {0, NULL, NULL}, ef = {0, NULL, NULL}, pd = {0, NULL, NULL},
-              ed = {0, NULL, NULL};
+                            (long long)N, SIDE, SIDE);
+    return PG_OK;
+}
+
+pg_status pg_inspect_fid_exemplar_build(const pg_planet *geometry, const pg_exemplar *ex,
+                                        pg_inspect_fid_exemplar **out, pg_error *err) {
+    *out = NULL;
+    pg_status st = check_size(geometry->n, err);
+    if (st != PG_OK) return st;
+    pg_inspect_fid_exemplar *fx = calloc(1, sizeof *fx);
+    if (!fx) return pg_error_set(err, PG_ERR_NOMEM, "fidelity: out of memory");
+    fx->N = geometry->n;
+    fx->m = analysis_factor(fx->N);
+    fx->n = (int)(fx->N / fx->m);
+    fx->projection = geometry->projection;
     float *cube = NULL; /* the exemplar on a cube of the planet's size: both sides alike */
-    pg_status st = pg_inspect_exemplar_cube(p, p->n, ex, &cube, err);
-    fid_src es = packed_src(cube, p->n), ps = planet_src(p);
-    if (st == PG_OK) st = box_field(&es, m, &ef, err);
-    if (st == PG_OK) st = planet_field(p, m, &pf, err);
+    st = pg_inspect_exemplar_cube(geometry, fx->N, ex, &cube, err);
+    fid_src es = packed_src(cube, fx->N);
+    if (st == PG_OK) st = box_field(&es, fx->m, &fx->ef, err);
     if (st == PG_OK) {
-        out->height_scale = height_scale(&ef);
-        scale_height(&ef, out->height_scale);
-        scale_height(&pf, out->height_scale);
-        st = detail_field(&ps, m, out->height_scale, &pd, err);
+        fx->height_scale = height_scale(&fx->ef);
+        scale_height(&fx->ef, fx->height_scale);
+        st = detail_field(&es, fx->m, fx->height_scale, &fx->ed, err);
     }
-    if (st == PG_OK) st = detail_field(&es, m, out->height_scale, &ed, err);
     free(cube);
+    if (st == PG_OK) st = exemplar_baselines(fx, err);
+    if (st != PG_OK) {
+        pg_inspect_fid_exemplar_free(fx);
+        return st;
+    }
+    *out = fx;
+    return PG_OK;
+}
+
+#define FID_MAGIC "PGFIDX01"
+
+/* The header: magic, key, the scalars; then the two fields. Raw, like the synthesis
+ * exemplar cache: read only by the build that wrote it. */
+typedef struct fid_header {
+    char magic[8];
+    uint64_t key;
+    int64_t N;
+    int32_t n, m, projection, database;
+    double height_scale, loo, random, detail_loo;
+} fid_header;
+
+pg_status pg_inspect_fid_exemplar_save(const pg_inspect_fid_exemplar *fx, const char *path,
+                                       uint64_t key, pg_error *err) {
+    char tmp[1100];
+    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write the cache", tmp);
+    fid_header h;
+    memset(&h, 0, sizeof h);
+    memcpy(h.magic, FID_MAGIC, 8);
+    h.key = key, h.N = fx->N, h.n = fx->n, h.m = fx->m, h.projection = fx->projection;
+    h.database = fx->database, h.height_scale = fx->height_scale, h.loo = fx->loo;
+    h.random = fx->random, h.detail_loo = fx->detail_loo;
+    size_t count = (size_t)6 * fx->n * fx->n * CH;
+    bool ok = fwrite(&h, sizeof h, 1, f) == 1 &&
+              fwrite(fx->ef.px, sizeof(float), count, f) == count &&
+              fwrite(fx->ed.px, sizeof(float), count, f) == count;
+    if (fclose(f) != 0) ok = false;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return pg_error_set(err, PG_ERR_IO, "%s: cannot write the cache", path);
+    }
+    return PG_OK;
+}
+
+pg_inspect_fid_exemplar *pg_inspect_fid_exemplar_load(const char *path, uint64_t key) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fid_header h;
+    pg_inspect_fid_exemplar *fx = calloc(1, sizeof *fx);
+    bool ok = fx && fread(&h, sizeof h, 1, f) == 1 && !memcmp(h.magic, FID_MAGIC, 8) &&
+              h.key == key && h.n > 2 * R && h.n <= (1 << 16) && h.m >= 1;
+    if (ok) {
+        size_t count = (size_t)6 * h.n * h.n * CH;
+        fx->N = h.N, fx->n = h.n, fx->m = h.m, fx->projection = h.projection;
+        fx->database = h.database, fx->height_scale = h.height_scale, fx->loo = h.loo;
+        fx->random = h.random, fx->detail_loo = h.detail_loo;
+        fx->ef = (fid_field){h.n, malloc(count * sizeof(float)), NULL};
+        fx->ed = (fid_field){h.n, malloc(count * sizeof(float)), NULL};
+        ok = fx->ef.px && fx->ed.px && fread(fx->ef.px, sizeof(float), count, f) == count &&
+             fread(fx->ed.px, sizeof(float), count, f) == count;
+    }
+    fclose(f);
+    if (!ok) pg_inspect_fid_exemplar_free(fx), fx = NULL;
+    return fx;
+}
+
+/* ---- the planet's side ---- */
+
+pg_status pg_inspect_fidelity_with(const pg_planet *p, const pg_inspect_fid_exemplar *fx,
+                                   pg_inspect_fidelity *out, pg_error *err) {
+    memset(out, 0, sizeof *out);
+    if (fx->N != p->n || fx->projection != (int)p->projection)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "fidelity: the exemplar side was made for faces of %lld texels, the "
+                            "planet has %lld",
+                            (long long)fx->N, (long long)p->n);
+    out->analysis_size = fx->n;
+    out->magnification = fx->m;
+    out->height_scale = fx->height_scale;
+    out->loo = fx->loo, out->random = fx->random, out->detail_loo = fx->detail_loo;
+    out->database = fx->database;
+    out->queries = query_count(Q_PLANET);
+    out->random_queries = query_count(Q_RANDOM);
+    fid_field pf = {0, NULL, NULL}, pd = {0, NULL, NULL};
+    fid_src ps = planet_src(p);
+    pg_status st = planet_field(p, fx->m, &pf, err);
+    if (st == PG_OK) {
+        scale_height(&pf, fx->height_scale);
+        st = detail_field(&ps, fx->m, fx->height_scale, &pd, err);
+    }
     pd.src = pf.src; /* planet entries are known by their sources */
-    if (st == PG_OK) st = run_measures(&pf, &ef, &pd, &ed, out, err);
-    free(pf.px), free(pf.src), free(ef.px), free(pd.px), free(ed.px);
+    if (st == PG_OK) st = planet_measures(&pf, &fx->ef, &pd, &fx->ed, out, err);
+    free(pf.px), free(pf.src), free(pd.px);
+    return st;
+}
+
+pg_status pg_inspect_fidelity_compute(const pg_planet *p, const pg_exemplar *ex,
+                                      pg_inspect_fidelity *out, pg_error *err) {
+    memset(out, 0, sizeof *out);
+    pg_inspect_fid_exemplar *fx = NULL;
+    pg_status st = pg_inspect_fid_exemplar_build(p, ex, &fx, err);
+    if (st == PG_OK) st = pg_inspect_fidelity_with(p, fx, out, err);
+    pg_inspect_fid_exemplar_free(fx);
     return st;
 }

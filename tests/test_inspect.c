@@ -486,7 +486,7 @@ static void test_tiny_planet_rejected(void **state) {
 /* ---- the CLI ---- */
 
 static double json_number(const char *path, const char *key) {
-    static char buf[1 << 16];
+    static char buf[1 << 20];
     FILE *f = fopen(path, "r");
     assert_non_null(f);
     size_t n = fread(buf, 1, sizeof buf - 1, f);
@@ -503,21 +503,26 @@ static void test_cli_report(void **state) {
     fixture *fx = *state;
     char json[1200], args[4096], out[8192], errb[2048];
     snprintf(json, sizeof json, "%s/../inspect_earth.json", fx->dir);
-    snprintf(args, sizeof args, "inspect '%s' --json '%s' --view-size 256", fx->dir, json);
+    snprintf(args, sizeof args, "inspect '%s' --json '%s' --cache-dir '%s/synth-cache'", fx->dir,
+             json, getenv("PG_BUILD_DIR"));
     int rc = pg_test_run_cli(args, out, sizeof out, errb, sizeof errb);
     printf("%s%s", out, errb);
     assert_int_equal(rc, 0);
-    assert_non_null(strstr(out, "NOT learned LPIPS"));
-    double ratio = json_number(json, "pole_equator_ratio");
-    assert_true(ratio > 0.5 && ratio <= PG_INSPECT_POLE_GATE);
+    assert_non_null(strstr(out, "fixed Gabor features"));
+    /* the saved Earth copy carries its identity map: a copy, undistorted, seamless */
+    assert_true(json_number(json, "pole_distortion_ratio") < 1.01);
+    assert_true(json_number(json, "earth_copy_fraction") >= 0.5);
+    assert_true(json_number(json, "face_seam_ratio") <= PG_INSPECT_FACE_SEAM_GATE);
+    assert_true(json_number(json, "face_seam_coherence") >= PG_INSPECT_FACE_COHERENCE_GATE);
     assert_true(json_number(json, "seam_ratio") <= PG_INSPECT_SEAM_GATE);
     assert_true(json_number(json, "depressions") >= 0);
-    double fid = json_number(json, "neighbourhood_fidelity_ratio");
+    double fid = json_number(json, "fidelity_ratio");
     assert_true(fid > 0 && fid <= FID_GATE_GOOD);
     char views[1200];
     snprintf(views, sizeof views, "%s/inspect", fx->dir);
-    assert_int_equal(pg_test_count_files(views), PG_INSPECT_NSRC * PG_VIEWS_COUNT + 1);
-    snprintf(views, sizeof views, "%s/inspect/poles.png", fx->dir);
+    /* the views, poles.png and rivers.png */
+    assert_int_equal(pg_test_count_files(views), PG_INSPECT_NSRC * PG_VIEWS_COUNT + 2);
+    snprintf(views, sizeof views, "%s/inspect/rivers.png", fx->dir);
     assert_true(pg_test_file_nonempty(views));
 }
 

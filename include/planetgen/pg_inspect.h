@@ -189,6 +189,21 @@ typedef struct pg_inspect_fidelity {
 pg_status pg_inspect_fidelity_compute(const pg_planet *p, const pg_exemplar *ex,
                                       pg_inspect_fidelity *out, pg_error *err);
 
+/* The exemplar's side of the fidelity measures: its analysis field, detail amplitude and
+ * baselines (leave-one-out, random) for planets of one geometry. It depends on the
+ * exemplar and the geometry only, so `inspect` caches it on disk (save/load; load
+ * returns NULL for a missing, foreign or stale file). Owned by the caller. */
+typedef struct pg_inspect_fid_exemplar pg_inspect_fid_exemplar;
+pg_status pg_inspect_fid_exemplar_build(const pg_planet *geometry, const pg_exemplar *ex,
+                                        pg_inspect_fid_exemplar **out, pg_error *err);
+void pg_inspect_fid_exemplar_free(pg_inspect_fid_exemplar *fx);
+pg_status pg_inspect_fid_exemplar_save(const pg_inspect_fid_exemplar *fx, const char *path,
+                                       uint64_t key, pg_error *err);
+pg_inspect_fid_exemplar *pg_inspect_fid_exemplar_load(const char *path, uint64_t key);
+/* pg_inspect_fidelity_compute with the exemplar's side given (the same figures). */
+pg_status pg_inspect_fidelity_with(const pg_planet *p, const pg_inspect_fid_exemplar *fx,
+                                   pg_inspect_fidelity *out, pg_error *err);
+
 /* ---- depressions ---- */
 
 /* pg_pits_stats_compute on the planet's heights over the whole cube sphere, sinks at
