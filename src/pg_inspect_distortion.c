@@ -293,6 +293,20 @@ static void gather_window(const region *g, int64_t bx, int64_t by, int rad, doub
         }
 }
 
+/* Does the window hold at least PG_INSPECT_DISTORTION_MIN_SPAN distinct steps along
+ * each axis? */
+static bool window_span_ok(const window *w) {
+    int lo[2] = {1 << 20, 1 << 20}, hi[2] = {-(1 << 20), -(1 << 20)};
+    for (int k = 0; k < w->n; k++)
+        for (int a = 0; a < 2; a++) {
+            int v = (int)w->g[k][a];
+            lo[a] = v < lo[a] ? v : lo[a];
+            hi[a] = v > hi[a] ? v : hi[a];
+        }
+    return hi[0] - lo[0] + 1 >= PG_INSPECT_DISTORTION_MIN_SPAN &&
+           hi[1] - lo[1] + 1 >= PG_INSPECT_DISTORTION_MIN_SPAN;
+}
+
 static void texel_nan(pg_inspect_distortion_texel *out, int points) {
     memset(out, 0, sizeof *out);
     out->points = points;
@@ -324,7 +338,10 @@ static void measure(const pg_planet *p, const region *g, int64_t bx, int64_t by,
     out->span = m2 / sqrt(hu * hv);
     out->mirrored = fj.J[0][0] * fj.J[1][1] - fj.J[0][1] * fj.J[1][0] < 0;
     out->degenerate = !(out->span >= PG_INSPECT_DISTORTION_MIN_STEP) || !(out->s2 > 0);
-    out->coherent = !out->degenerate && out->residual <= PG_INSPECT_DISTORTION_RESIDUAL;
+    /* a window only two texels wide fits any jump between its two columns (or rows)
+     * as a linear map: it cannot tell a copy from a patch seam */
+    out->coherent =
+        !out->degenerate && out->residual <= PG_INSPECT_DISTORTION_RESIDUAL && window_span_ok(&w);
 }
 
 /* The wide window where it is coherent (less rounding noise), else the 3x3. */

@@ -124,6 +124,32 @@ static void test_identity(void **state) {
     }
 }
 
+/* A patch seam one texel from a face edge: the edge column's sources jump 40 texels.
+ * A window two texels wide (the 3 x 3 clipped at the edge) fits that jump as a linear
+ * map with a tiny residual; such texels must not count as coherent copies (they once
+ * did, and a single one raised a cap's mean figure from 1.5 to 38). */
+static void test_edge_column_jump_not_coherent(void **state) {
+    (void)state;
+    pg_planet p;
+    pg_error err = {0};
+    make_planet(&p, PG_CUBE_EQUIANGULAR, 64);
+    assert_int_equal(pg_planet_source_identity(&p, 64, PG_CUBE_EQUIANGULAR, &err), PG_OK);
+    for (int64_t y = 0; y < 64; y++) { /* face +X, column x = 0: sources 40 texels up */
+        uint32_t c = p.source.coords[0][y * 64];
+        p.source.coords[0][y * 64] =
+            pg_synth_pack(pg_synth_face(c), pg_synth_u(c), (pg_synth_v(c) + 40) % 64);
+    }
+    for (int64_t y = 8; y < 56; y += 8) {
+        pg_inspect_distortion_texel t;
+        pg_inspect_distortion_texel_at(&p, 1, 0, 0, y, &t);
+        assert_false(t.coherent);
+        pg_inspect_distortion_texel_at(&p, 1, 0, 2, y, &t); /* its window stays clear */
+        assert_true(t.coherent);
+        assert_true(fabs(t.figure - 1) < 0.05);
+    }
+    pg_planet_free(&p);
+}
+
 /* One source per 2x2 block: the windows run on the block grid. */
 static void test_identity_magnified(void **state) {
     (void)state;
@@ -420,6 +446,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_identity),
         cmocka_unit_test(test_identity_magnified),
+        cmocka_unit_test(test_edge_column_jump_not_coherent),
         cmocka_unit_test(test_turned_and_mirrored),
         cmocka_unit_test(test_quantised_copy),
         cmocka_unit_test(test_known_anisotropy),

@@ -48,6 +48,11 @@ extern "C" {
 /* Degenerate: per window step the sources move less than this many exemplar texels in
  * some direction (rounding can then make a 3x3 window's sources all equal). */
 #define PG_INSPECT_DISTORTION_MIN_STEP 0.25
+/* Fewest texels a coherent texel's window spans along each axis: a window two texels
+ * wide (the 3 x 3 clipped at a face edge) fits any jump between its two columns as a
+ * linear map - on a generated planet, sources 1500 texels apart passed the residual
+ * test that way - so the fit must be over-determined along both axes. */
+#define PG_INSPECT_DISTORTION_MIN_SPAN 3
 
 #define PG_INSPECT_DISTORTION_NVIEWS 26
 
@@ -70,7 +75,8 @@ typedef struct pg_inspect_distortion_texel {
     double span;       /* smallest source displacement per window step, exemplar texels */
     bool mirrored;     /* det J < 0 */
     bool degenerate;   /* span < PG_INSPECT_DISTORTION_MIN_STEP, or J singular */
-    bool coherent;     /* residual <= PG_INSPECT_DISTORTION_RESIDUAL and not degenerate */
+    bool coherent;     /* residual <= PG_INSPECT_DISTORTION_RESIDUAL, not degenerate, and
+                          the window spans PG_INSPECT_DISTORTION_MIN_SPAN texels per axis */
 } pg_inspect_distortion_texel;
 
 typedef struct pg_inspect_distortion_view {
