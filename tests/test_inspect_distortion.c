@@ -124,7 +124,8 @@ static void test_identity(void **state) {
     }
 }
 
-/* A patch seam one texel from a face edge: the edge column's sources jump 40 texels.
+/* A patch seam one texel from a face edge: the edge column's sources jump 40 texels
+ * along u (a jump along v would make J a shear, rejected as degenerate anyway).
  * A window two texels wide (the 3 x 3 clipped at the edge) fits that jump as a linear
  * map with a tiny residual; such texels must not count as coherent copies (they once
  * did, and a single one raised a cap's mean figure from 1.5 to 38). */
@@ -134,10 +135,10 @@ static void test_edge_column_jump_not_coherent(void **state) {
     pg_error err = {0};
     make_planet(&p, PG_CUBE_EQUIANGULAR, 64);
     assert_int_equal(pg_planet_source_identity(&p, 64, PG_CUBE_EQUIANGULAR, &err), PG_OK);
-    for (int64_t y = 0; y < 64; y++) { /* face +X, column x = 0: sources 40 texels up */
+    for (int64_t y = 0; y < 64; y++) { /* face +X, column x = 0: sources 40 texels on */
         uint32_t c = p.source.coords[0][y * 64];
         p.source.coords[0][y * 64] =
-            pg_synth_pack(pg_synth_face(c), pg_synth_u(c), (pg_synth_v(c) + 40) % 64);
+            pg_synth_pack(pg_synth_face(c), (pg_synth_u(c) + 40) % 64, pg_synth_v(c));
     }
     for (int64_t y = 8; y < 56; y += 8) {
         pg_inspect_distortion_texel t;
