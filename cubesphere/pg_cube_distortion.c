@@ -172,3 +172,13 @@ pg_status pg_cube_distortion_compute(pg_cube_projection p, int64_t n, const pg_e
     out->mean_texel_km = sqrt(out->total_area_m2 / (6.0 * (double)n * (double)n)) / 1000;
     return PG_OK;
 }
+
+double pg_cube_spherical_triangle(const double a[3], const double b[3], const double c[3]) {
+    double bxc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
+                     b[0] * c[1] - b[1] * c[0]};
+    double num = fabs(a[0] * bxc[0] + a[1] * bxc[1] + a[2] * bxc[2]);
+    double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
+                 (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
+                 (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
+    return 2 * atan2(num, den);
+}

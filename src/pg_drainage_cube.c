@@ -65,17 +65,6 @@ static double area_element(double dz, double a, double b) {
     return g / (s * s);
 }
 
-/* Area of the spherical triangle of unit vectors a, b, c (Van Oosterom & Strackee). */
-static double tri_excess(const double *a, const double *b, const double *c) {
-    double bxc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
-                     b[0] * c[1] - b[1] * c[0]};
-    double num = fabs(a[0] * bxc[0] + a[1] * bxc[1] + a[2] * bxc[2]);
-    double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
-                 (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
-                 (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
-    return 2 * atan2(num, den);
-}
-
 /* The area tables: t[0..nn) for the equatorial faces, t[nn..2nn) for the polar ones.
  * Excess and element are symmetric under x -> n-1-x and y -> n-1-y (the element
  * depends on dz^2), so one quadrant is computed and mirrored. */
@@ -87,7 +76,8 @@ static void area_tables(int64_t n, const double *corner, const double *centre, d
         for (int64_t x = 0; x < h; x++) {
             const double *c00 = corner + 3 * (y * m + x), *c10 = c00 + 3;
             const double *c01 = c00 + 3 * m, *c11 = c01 + 3;
-            double e = tri_excess(c00, c10, c11) + tri_excess(c00, c11, c01);
+            double e = pg_cube_spherical_triangle(c00, c10, c11) +
+                       pg_cube_spherical_triangle(c00, c11, c01);
             const double *l = centre + 3 * (y * n + x);
             float eq = (float)(e * area_element(l[1], a, b)); /* +X: dz = l_v */
             float po = (float)(e * area_element(l[2], a, b)); /* +Z: dz = l_n */

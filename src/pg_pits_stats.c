@@ -53,17 +53,6 @@ static void scan_region(region_scan *r, uint32_t s, pg_pits_stats *st) {
     st->depressions++;
 }
 
-/* Area of the spherical triangle of unit vectors a, b, c (Van Oosterom & Strackee). */
-static double tri_area(const double a[3], const double b[3], const double c[3]) {
-    double bxc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
-                     b[0] * c[1] - b[1] * c[0]};
-    double num = fabs(a[0] * bxc[0] + a[1] * bxc[1] + a[2] * bxc[2]);
-    double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
-                 (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
-                 (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
-    return 2 * atan2(num, den);
-}
-
 pg_status pg_pits_cube_face_areas(pg_cube_projection p, uint32_t n, double radius, double *areas,
                                   pg_error *err) {
     pg_cube_grid g;
@@ -77,8 +66,9 @@ pg_status pg_pits_cube_face_areas(pg_cube_projection p, uint32_t n, double radiu
             pg_cube_corner_dir(&g, 0, x + 1, y, c10);
             pg_cube_corner_dir(&g, 0, x + 1, y + 1, c11);
             pg_cube_corner_dir(&g, 0, x, y + 1, c01);
-            areas[y * n + x] =
-                radius * radius * (tri_area(c00, c10, c11) + tri_area(c00, c11, c01));
+            areas[y * n + x] = radius * radius *
+                               (pg_cube_spherical_triangle(c00, c10, c11) +
+                                pg_cube_spherical_triangle(c00, c11, c01));
         }
     return PG_OK;
 }

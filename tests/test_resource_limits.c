@@ -188,8 +188,9 @@ static void test_inspect(void **state) {
     char args[4096], views[700], png[800];
     snprintf(views, sizeof views, "%s/views", dir);
     snprintf(png, sizeof png, "%s/north_planet.png", views);
-    snprintf(args, sizeof args, "inspect %s --albedo %s --height %s --view-size 256 -o %s", planet,
-             alb, hgt, views);
+    snprintf(args, sizeof args,
+             "inspect %s --albedo %s --height %s --view-size 256 --no-cache -o %s", planet, alb,
+             hgt, views);
     expect_both_refusals(args, planet, views);
     expect_override_runs(args, png);
 }

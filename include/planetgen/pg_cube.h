@@ -216,6 +216,10 @@ pg_status pg_cube_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoi
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out);
 
+/* Solid angle (steradians) of the spherical triangle of unit vectors a, b, c (Van
+ * Oosterom & Strackee 1983): texel areas on the unit sphere, two triangles a texel. */
+double pg_cube_spherical_triangle(const double a[3], const double b[3], const double c[3]);
+
 /* ---- distortion ---- */
 
 typedef struct pg_cube_distortion {
