@@ -103,8 +103,14 @@ static void check_keys(const char *name, double v[NKEYS]) {
     assert_true(number_after(earth, "earth_copy_fraction") >= 0.5);
     assert_true(number_after(earth, "hypsometry_w1_m") == 0);
     assert_true(number_after(earth, "novelty") < 0.01);
-    /* a finished planet drains: the final pass left no depression */
+    /* a finished planet drains: the final pass left no depression; synthesis recorded
+     * how much land drained into closed basins before that pass */
     assert_true(number_after(json, "depressions") == 0);
+    const char *planet = strstr(json, "\"results\": {");
+    assert_non_null(planet);
+    double closed = number_after(planet, "closed_land_share_before_final");
+    print_message("%-8s closed land before the final pass %.3f\n", name, closed);
+    assert_true(closed > 0 && closed < 1);
 }
 
 static double key_of(const double v[NKEYS], const char *key) {
