@@ -73,8 +73,8 @@ static pg_status render_source(int src, pg_views_sampler s, void *user, pg_inspe
     return PG_OK;
 }
 
-pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int size,
-                                  pg_inspect_views *out, pg_error *err) {
+static pg_status render_views(const pg_planet *p, const pg_exemplar *ex, int size, bool floor,
+                              pg_inspect_views *out, pg_error *err) {
     memset(out, 0, sizeof *out);
     out->size = size;
     out->fov_deg = PG_VIEWS_DEFAULT_FOV_DEG;
@@ -87,8 +87,8 @@ pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int
     pg_views_cube_src ps = {p->projection, p->n, planet};
     pg_status st = render_source(PG_INSPECT_SRC_PLANET, pg_views_sample_cube, &ps, out, err);
     free(planet);
-    if (st == PG_OK) st = pg_inspect_exemplar_cube(p, p->n, ex, &excube, err);
-    if (st == PG_OK) {
+    if (st == PG_OK && floor) st = pg_inspect_exemplar_cube(p, p->n, ex, &excube, err);
+    if (st == PG_OK && floor) {
         pg_views_cube_src cs = {p->projection, p->n, excube};
         st = render_source(PG_INSPECT_SRC_EXCUBE, pg_views_sample_cube, &cs, out, err);
     }
@@ -99,6 +99,16 @@ pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int
     }
     if (st != PG_OK) pg_inspect_views_free(out);
     return st;
+}
+
+pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int size,
+                                  pg_inspect_views *out, pg_error *err) {
+    return render_views(p, ex, size, true, out, err);
+}
+
+pg_status pg_inspect_render_views_nofloor(const pg_planet *p, const pg_exemplar *ex, int size,
+                                          pg_inspect_views *out, pg_error *err) {
+    return render_views(p, ex, size, false, out, err);
 }
 
 static pg_status view_features(const pg_view *v, const pg_lpips_params *lp, pg_lpips_features *f,
@@ -114,11 +124,14 @@ static pg_status score_view(const pg_inspect_views *v, int k, const pg_lpips_par
     pg_lpips_features f[PG_INSPECT_NSRC];
     memset(f, 0, sizeof f);
     pg_status st = PG_OK;
+    bool floor = v->v[PG_INSPECT_SRC_EXCUBE][k].size > 0; /* not rendered: NaN */
+    out->d[PG_INSPECT_SRC_EXCUBE][k].distance = out->d_vs_cube[k].distance = NAN;
     for (int s = 0; s < PG_INSPECT_NSRC && st == PG_OK; s++)
-        st = view_features(&v->v[s][k], lp, &f[s], err);
+        if (s != PG_INSPECT_SRC_EXCUBE || floor) st = view_features(&v->v[s][k], lp, &f[s], err);
     for (int s = 0; s < PG_INSPECT_NSRC && st == PG_OK; s++)
-        st = pg_lpips_compare(&f[s], &f[PG_INSPECT_SRC_EXRECT], &out->d[s][k], err);
-    if (st == PG_OK)
+        if (s != PG_INSPECT_SRC_EXCUBE || floor)
+            st = pg_lpips_compare(&f[s], &f[PG_INSPECT_SRC_EXRECT], &out->d[s][k], err);
+    if (st == PG_OK && floor)
         st = pg_lpips_compare(&f[PG_INSPECT_SRC_PLANET], &f[PG_INSPECT_SRC_EXCUBE],
                               &out->d_vs_cube[k], err);
     for (int s = 0; s < PG_INSPECT_NSRC; s++)

@@ -101,6 +101,10 @@ typedef struct pg_inspect_views {
  * and ellipsoid. */
 pg_status pg_inspect_render_views(const pg_planet *p, const pg_exemplar *ex, int size,
                                   pg_inspect_views *out, pg_error *err);
+/* The same without the exemplar cube (the resampling floor), whose distances are then
+ * NaN: what `inspect` reports, a third cheaper. */
+pg_status pg_inspect_render_views_nofloor(const pg_planet *p, const pg_exemplar *ex, int size,
+                                          pg_inspect_views *out, pg_error *err);
 void pg_inspect_views_free(pg_inspect_views *v);
 
 typedef struct pg_inspect_poles {

@@ -117,7 +117,7 @@ static pg_status compute_figures(pg_cli *cli, const inspect_args *a, const pg_pl
     st = pg_cube_distortion_compute(p->projection, p->n, &p->ellipsoid, &fig->grid, err);
     if (st != PG_OK) return st;
     pg_cli_stage_begin(cli, "render views");
-    st = pg_inspect_render_views(p, ex, (int)a->view_size, v, err);
+    st = pg_inspect_render_views_nofloor(p, ex, (int)a->view_size, v, err);
     pg_cli_stage_end(cli);
     if (st != PG_OK) return st;
     pg_cli_stage_begin(cli, "texture comparison (LPIPS-style)");
@@ -143,7 +143,7 @@ static pg_status write_views(pg_cli *cli, const char *dir, const pg_inspect_view
                              pg_error *err) {
     pg_status st = PG_OK;
     for (int s = 0; s < PG_INSPECT_NSRC && st == PG_OK; s++)
-        for (int k = 0; k < PG_VIEWS_COUNT && st == PG_OK; k++) {
+        for (int k = 0; k < PG_VIEWS_COUNT && st == PG_OK && v->v[s][k].size > 0; k++) {
             char name[96];
             snprintf(name, sizeof name, "%s_%s.png", pg_views_centre_get(k)->name,
                      pg_inspect_source_name(s));
@@ -287,9 +287,8 @@ static void print_table(pg_cli *cli, const pg_planet *p, const inspect_figures *
                 "features, no gate), %d px views:\n",
                 size);
     for (int k = 0; k < PG_VIEWS_COUNT; k++)
-        pg_cli_info(cli, "  %-12s %9.4f (resampling floor %.4f)\n", pg_views_centre_get(k)->name,
-                    q->d[PG_INSPECT_SRC_PLANET][k].distance,
-                    q->d[PG_INSPECT_SRC_EXCUBE][k].distance);
+        pg_cli_info(cli, "  %-12s %9.4f\n", pg_views_centre_get(k)->name,
+                    q->d[PG_INSPECT_SRC_PLANET][k].distance);
     pg_cli_info(cli, "  pole/equator north %.3f, south %.3f\n", q->ratio_north, q->ratio_south);
 }
 
@@ -403,7 +402,6 @@ static void json_views(pg_json *res, const inspect_figures *f) {
     for (int k = 0; k < PG_VIEWS_COUNT; k++) {
         pg_json *v = pg_json_set_object(t, pg_views_centre_get(k)->name);
         pg_json_set_number(v, "distance", q->d[PG_INSPECT_SRC_PLANET][k].distance);
-        pg_json_set_number(v, "exemplar_cube_distance", q->d[PG_INSPECT_SRC_EXCUBE][k].distance);
     }
     pg_json *g = pg_json_set_object(res, "grid");
     pg_json_set_number(g, "texel_area_ratio", f->grid.area_ratio);
