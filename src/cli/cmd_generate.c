@@ -494,6 +494,10 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     src_name[sizeof planet.exemplar - 1] = 0;
     memcpy(planet.exemplar, src_name, sizeof planet.exemplar);
     if (g->tiled) {
+        /* The tiled layout records neither the coordinate map nor the closed-land share:
+         * a distributed run cannot compute the share without gathering the level, and
+         * the layout's files must be the same bytes for any rank count. */
+        planet.closed_land_share_before_final = NAN;
         rc = write_tiled(cli, a, g, &planet);
     } else {
         pg_cli_stage_begin(cli, "write planet");
