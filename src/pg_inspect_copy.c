@@ -30,6 +30,7 @@
  * count integers per row and add them up: integer sums do not depend on the order, so
  * the results are the same for any thread count. */
 #include "planetgen/pg_inspect_copy.h"
+#include "planetgen/pg_inspect_distortion.h"
 
 #include "planetgen/pg_pits.h"
 #include "planetgen/pg_synth.h"
@@ -201,14 +202,16 @@ static bool coherent(const pg_pits_topo *t, uint32_t a, uint32_t b) {
     return false;
 }
 
-/* Coherent pairs among the 4-adjacent pairs inside face f starting on row y. */
-static uint64_t interior_row(const pg_planet *p, const pg_pits_topo *t, int f, int64_t y) {
+/* Coherent pairs among the 4-adjacent pairs inside face f starting on row y that cross
+ * a block boundary of the magnification m (pairs inside an m x m block share one source
+ * and say nothing; every seam pair crosses blocks). */
+static uint64_t interior_row(const pg_planet *p, const pg_pits_topo *t, int m, int f, int64_t y) {
     const int64_t n = p->n;
     const uint32_t *row = p->source.coords[f] + (size_t)y * (size_t)n;
     uint64_t c = 0;
     for (int64_t x = 0; x < n; x++) {
-        if (x + 1 < n) c += coherent(t, row[x], row[x + 1]);
-        if (y + 1 < n) c += coherent(t, row[x], row[x + n]);
+        if (x + 1 < n && (x + 1) % m == 0) c += coherent(t, row[x], row[x + 1]);
+        if (y + 1 < n && (y + 1) % m == 0) c += coherent(t, row[x], row[x + n]);
     }
     return c;
 }
@@ -252,17 +255,19 @@ pg_status pg_inspect_copy_coherence(const pg_planet *p, pg_inspect_coherence_sta
     if (st == PG_OK) st = pg_cube_grid_init(&g, p->projection, (int)p->n, 1, err);
     if (st != PG_OK) return st;
     const int64_t n = p->n, rows = PG_CUBE_NFACES * n;
+    const int m = pg_inspect_distortion_magnification(p);
     uint64_t inner = 0, seam = 0, seam_count = 0;
 #pragma omp parallel for reduction(+ : inner) schedule(dynamic, 16)
     for (int64_t r = 0; r < rows; r++)
-        inner += interior_row(p, &t, (int)(r / n), r % n);
+        inner += interior_row(p, &t, m, (int)(r / n), r % n);
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         for (int e = PG_CUBE_XP; e <= PG_CUBE_YM; e++)
             if (g.nbr_face[f][e] > f) {
                 seam += seam_pairs(p, &g, &t, f, e);
                 seam_count += (uint64_t)n;
             }
-    out->interior_pairs = (uint64_t)PG_CUBE_NFACES * 2 * (uint64_t)n * (uint64_t)(n - 1);
+    /* per face, n rows of n / m - 1 block-crossing pairs, each way */
+    out->interior_pairs = (uint64_t)PG_CUBE_NFACES * 2 * (uint64_t)n * (uint64_t)(n / m - 1);
     out->seam_pairs = seam_count; /* 12 n: each seam once */
     out->interior_share = out->interior_pairs ? (double)inner / (double)out->interior_pairs : NAN;
     out->seam_share = (double)seam / (double)out->seam_pairs;

@@ -74,6 +74,8 @@
 #define DIM (NB * CH)
 #define PFX PG_INSPECT_FID_PREFIX
 #define REST (DIM - PFX)
+_Static_assert(PG_INSPECT_FID_RANDOM_QUERIES <= PG_INSPECT_FID_QUERIES,
+               "the distance buffer holds 6 x PG_INSPECT_FID_QUERIES queries");
 #define CHUNK 12  /* early-termination check every CHUNK coefficients */
 #define QBLOCK 16 /* queries per database pass (16 x 400 B stay in L1) */
 #if PFX % 4 || REST % CHUNK || CHUNK % 4
@@ -207,7 +209,7 @@ static fid_src planet_src(const pg_planet *p) {
 
 static fid_src packed_src(const float *cube, int64_t n) {
     fid_src s = {n, {0}, {0}, 4, 4};
-    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+    for (int f = 0; cube && f < PG_CUBE_NFACES; f++) {
         s.rgb[f] = cube + (size_t)f * (size_t)(n * n) * 4;
         s.h[f] = s.rgb[f] + 3;
     }
@@ -519,7 +521,9 @@ static double measure(query_kind kind, const fid_dct *dct, const fid_db *d, cons
             float nb[DIM];
             query_nb(kind, planet, exf, i0 + t, nb, &qs[t].face, &qs[t].x, &qs[t].y);
             transform(dct, nb, qs[t].q);
-            qs[t].excl = kind == Q_RANDOM || qs[t].face < 0 ? 0 : PG_INSPECT_FID_EXCLUDE;
+            /* completeness excludes planet entries by their sources: none without a map */
+            bool none = kind == Q_RANDOM || qs[t].face < 0 || (kind == Q_COMPLETE && !planet->src);
+            qs[t].excl = none ? 0 : PG_INSPECT_FID_EXCLUDE;
         }
         nearest_block(d, qs, count);
         for (int t = 0; t < count; t++)
@@ -638,7 +642,7 @@ pg_status pg_inspect_fid_exemplar_build(const pg_planet *geometry, const pg_exem
     fx->projection = geometry->projection;
     float *cube = NULL; /* the exemplar on a cube of the planet's size: both sides alike */
     st = pg_inspect_exemplar_cube(geometry, fx->N, ex, &cube, err);
-    fid_src es = packed_src(cube, fx->N);
+    fid_src es = packed_src(cube, fx->N); /* empty when the cube failed */
     if (st == PG_OK) st = box_field(&es, fx->m, &fx->ef, err);
     if (st == PG_OK) {
         fx->height_scale = height_scale(&fx->ef);

@@ -14,11 +14,13 @@
  * final pass gave the planet.
  *
  * The Earth cache is the struct itself, written raw behind a magic, a key and its
- * size: it holds no pointers, and a cache is read only by the build that wrote it
- * (any change of layout changes the size or the version tag in the key). */
+ * size: it holds no pointers. The key hashes the exemplar's data, the geometry and the
+ * library's source hash, so a cache is read only by code identical to the code that
+ * wrote it. */
 #include "planetgen/pg_realism.h"
 #include "planetgen/pg_synth.h"
 
+#include "pg_source_hash.h"
 #include "pg_synth_internal.h"
 
 #include <errno.h>
@@ -220,7 +222,9 @@ pg_status pg_realism_earth(const pg_planet *geometry, const pg_exemplar *ex,
 }
 
 static uint64_t earth_key(const pg_planet *g, const pg_exemplar *ex) {
-    const char *tag = "planetgen-realism-earth-v1";
+    /* the code that computed the figures: any change to the library's sources makes
+     * older cache files foreign (PG_SOURCE_HASH, scripts/hash-sources.cmake) */
+    const char *tag = "planetgen-realism-earth " PG_SOURCE_HASH;
     uint64_t k = pg_synth_hash_bytes(0xcbf29ce484222325ULL, tag, strlen(tag));
     int64_t ints[6] = {g->projection, g->tiles,   g->tile_size,
                        ex->width,     ex->height, (int64_t)sizeof(pg_realism)};
@@ -248,8 +252,21 @@ static bool load_earth(const char *path, uint64_t key, pg_realism *out) {
 
 /* Written under a temporary name and renamed, so readers never see half a file. A
  * cache that cannot be written is not an error: the figures are still right. */
+/* mkdir -p: every missing folder of dir (errors surface when the file is written). */
+static void make_dirs(const char *dir) {
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *s = buf + 1; *s; s++)
+        if (*s == '/') {
+            *s = 0;
+            mkdir(buf, 0755);
+            *s = '/';
+        }
+    mkdir(buf, 0755);
+}
+
 static void save_earth(const char *dir, const char *path, uint64_t key, const pg_realism *r) {
-    mkdir(dir, 0755);
+    make_dirs(dir);
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid());
     FILE *f = fopen(tmp, "wb");

@@ -26,6 +26,7 @@
 #include "pg_test.h"
 
 #include "planetgen/pg_inspect.h"
+#include "planetgen/pg_realism.h"
 #include "planetgen/pg_synth.h"
 
 #include <math.h>
@@ -483,6 +484,62 @@ static void test_tiny_planet_rejected(void **state) {
     pg_planet_free(&p);
 }
 
+/* ---- Earth's side and its caches (pg_realism.h) ---- */
+
+static void earth_side(const fixture *fx, const pg_planet *g, const char *dir, pg_realism *r,
+                       pg_inspect_fid_exemplar **f, bool *cached) {
+    pg_error err = {0};
+    if (pg_realism_earth_cached(g, &fx->ex, dir, NULL, NULL, r, f, cached, &err) != PG_OK)
+        fail_msg("%s", err.msg);
+}
+
+/* The second call reads what the first wrote, bit for bit; a damaged file or another
+ * geometry is computed afresh, never read. */
+static void test_earth_cache(void **state) {
+    fixture *fx = *state;
+    char dir[1024], path[1200];
+    pg_test_scratch_dir("inspect_cache", dir, sizeof dir);
+    pg_planet g;
+    pg_error err = {0};
+    assert_int_equal(
+        pg_planet_alloc(&g, PG_CUBE_DEFAULT_PROJECTION, 1, 32, pg_ellipsoid_sphere(), &err), PG_OK);
+    pg_realism *a = calloc(3, sizeof *a), *b = a + 1, *c = a + 2;
+    pg_inspect_fid_exemplar *fa, *fb, *fc;
+    bool cached;
+    earth_side(fx, &g, dir, a, &fa, &cached);
+    assert_false(cached);
+    earth_side(fx, &g, dir, b, &fb, &cached);
+    assert_true(cached);
+    assert_memory_equal(a, b, sizeof *a);
+    assert_true(a->pole_distortion_ratio < 1.01 && a->copy.earth_copy_fraction > 0.5);
+    /* the cached exemplar side gives the same fidelity as the fresh one */
+    pg_inspect_fidelity x, y;
+    g.sea_level = fx->ex.sea_level;
+    assert_int_equal(pg_planet_from_exemplar(&g, &fx->ex, 2, &err), PG_OK);
+    assert_int_equal(pg_inspect_fidelity_with(&g, fa, &x, &err), PG_OK);
+    assert_int_equal(pg_inspect_fidelity_with(&g, fb, &y, &err), PG_OK);
+    assert_memory_equal(&x, &y, sizeof x);
+    /* truncate every cache file: computed again, same figures */
+    snprintf(path, sizeof path, "for f in '%s'/realism-*.bin; do truncate -s 100 \"$f\"; done",
+             dir);
+    assert_int_equal(system(path), 0);
+    earth_side(fx, &g, dir, c, &fc, &cached);
+    assert_false(cached);
+    assert_true(c->fidelity.loo == a->fidelity.loo &&
+                c->earthlike.land_fraction == a->earthlike.land_fraction);
+    pg_inspect_fid_exemplar_free(fc);
+    /* another projection is another key */
+    pg_planet h;
+    assert_int_equal(pg_planet_alloc(&h, PG_CUBE_GNOMONIC, 1, 32, pg_ellipsoid_sphere(), &err),
+                     PG_OK);
+    earth_side(fx, &h, dir, c, &fc, &cached);
+    assert_false(cached);
+    pg_inspect_fid_exemplar_free(fa), pg_inspect_fid_exemplar_free(fb);
+    pg_inspect_fid_exemplar_free(fc);
+    pg_planet_free(&g), pg_planet_free(&h);
+    free(a);
+}
+
 /* ---- the CLI ---- */
 
 static double json_number(const char *path, const char *key) {
@@ -566,6 +623,7 @@ int main(void) {
                                        cmocka_unit_test(test_negative_controls),
                                        cmocka_unit_test(test_thread_count_independent),
                                        cmocka_unit_test(test_tiny_planet_rejected),
+                                       cmocka_unit_test(test_earth_cache),
                                        cmocka_unit_test(test_cli_report),
                                        cmocka_unit_test(test_cli_bad_input)};
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -156,8 +156,9 @@ static pg_status write_views(pg_cli *cli, const char *dir, const pg_inspect_view
         &v->v[PG_INSPECT_SRC_PLANET][PG_VIEW_SOUTH], &v->v[PG_INSPECT_SRC_EXRECT][PG_VIEW_SOUTH]};
     pg_image m;
     st = pg_views_montage(row, 4, 8, &m, err);
-    if (st == PG_OK) st = write_png(cli, dir, "poles.png", &m, err);
-    if (st == PG_OK) pg_image_free(&m);
+    if (st != PG_OK) return st;
+    st = write_png(cli, dir, "poles.png", &m, err);
+    pg_image_free(&m);
     return st;
 }
 
