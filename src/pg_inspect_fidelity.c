@@ -36,11 +36,10 @@
  * the two ratios, each against its own leave-one-out.
  *
  * Preconditions and scale: planet and exemplar are compared at one texel spacing.
- * Planets are synthesized at the exemplar cube's scale (E = 512) and magnified at
- * delivery, so the planet's faces are box-averaged by the smallest integer factor m
- * that brings them to at most PG_INSPECT_FID_FACE texels, and the exemplar is
- * reprojected onto a cube of that size with the planet's projection. Neighbourhoods
- * stay inside faces (centres R texels or more from an edge), so no seam handling is
+ * Faces finer than PG_INSPECT_FID_FACE keep the search within a few seconds: the planet's faces are
+ * box-averaged by the smallest integer factor m that brings them to at most PG_INSPECT_FID_FACE
+ * texels, and the exemplar is reprojected onto a cube of that size with the planet's projection.
+ * Neighbourhoods stay inside faces (centres R texels or more from an edge), so no seam handling is
  * needed and both sides are read the same way.
  *
  * The search is exact. Each neighbourhood is stored as the orthonormal 5x5 DCT-II of

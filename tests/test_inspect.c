@@ -1,5 +1,6 @@
-/* test_inspect.c - the pole gate of issue 8 on the real exemplar, its negative control,
- * the seam statistic, and `planetgen inspect` as a user runs it.
+/* test_inspect.c - the texture comparison (the former pole check) on the real exemplar,
+ * its negative control, the seam statistic, neighbourhood fidelity, Earth's side and its
+ * caches, and `planetgen inspect` as a user runs it (docs/inspect.md).
  *
  * Positive case: the default-size planet (6 x 4x4 x 256^2, equi-angular) made by
  * reprojecting the Earth exemplar onto the cube (pg_planet_from_exemplar), the
@@ -17,12 +18,12 @@
  * towards the poles it pinches and smears - the classic lat-lon failure. The check
  * must fail visibly on it.
  *
- * Neighbourhood fidelity (pg_inspect_fidelity_compute) on the same Earth planet: its
- * neighbourhoods are the exemplar's own, so it scores below the leave-one-out baseline
- * (gate <= FID_GATE_GOOD); negative controls made from it - every texel from a hashed
- * texel (shuffled), heavy texel noise - must score >= FID_GATE_BAD. A blurred copy is
- * reported as the measure's blind spot. The synthesized default planet is checked
- * through `planetgen inspect` in test_pole_gate.c. */
+ * Neighbourhood fidelity (pg_inspect_fidelity_compute) on the same Earth planet, with
+ * its identity coordinate map: with its own sources excluded it scores about the
+ * leave-one-out baseline (gate <= FID_GATE_GOOD); negative controls made from it -
+ * every texel from a hashed texel (shuffled), heavy texel noise - must score >=
+ * FID_GATE_BAD, and a copy blurred by 2 texels must fail the completeness gate. The
+ * synthesized planets are checked through `planetgen inspect` in test_realism_e2e.c. */
 #include "pg_test.h"
 
 #include "planetgen/pg_inspect.h"
@@ -36,8 +37,8 @@
 #include <string.h>
 
 #define PATCH 48 /* lat-lon emulation: patch period in pixels of the exemplar grid */
-/* Fidelity gates, from the measurements in docs/inspect.md (Earth 0.86x, synthesized
- * default planet 0.78-0.90x, noise 3.8x, shuffled 8.0x leave-one-out). */
+/* Fidelity gates (docs/inspect.md: the Earth copy 1.005x, blurred 1.68x completeness,
+ * noise 3.8x, shuffled 8.1x leave-one-out). */
 #define FID_GATE_GOOD PG_INSPECT_FIDELITY_GATE /* a copy of the exemplar passes */
 #define FID_GATE_BAD 2.0                       /* noisy and shuffled controls: at least this */
 #define FID_NOISE_ALBEDO 0.2   /* uniform +-0.2 sRGB per channel (+-51 grey levels) */
@@ -285,7 +286,7 @@ static void test_isotropic_degradation_passes(void **state) {
     pg_planet_free(&q);
 }
 
-/* The seam statistic: ~1 on the reprojected Earth (no seams: within issue 5's gate);
+/* The seam statistic: ~1 on the reprojected Earth (no seams: within the seam gate);
  * clearly above once every tile's albedo and height are offset by its own constant, as
  * tiles made without their neighbours would be. */
 static void test_seam_statistic(void **state) {

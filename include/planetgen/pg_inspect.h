@@ -142,7 +142,7 @@ pg_status pg_inspect_exemplar_cube(const pg_planet *p, int64_t n, const pg_exemp
  * hashed planet texels (all six faces) of the distance to the nearest exemplar
  * neighbourhood; two baselines on the same exemplar database say what good and bad
  * are: leave-one-out (exemplar neighbourhoods against the rest of the exemplar, every
- * neighbourhood sharing a texel with the query excluded) and random (neighbourhoods of
+ * entries within PG_INSPECT_FID_EXCLUDE texels of the query excluded) and random (neighbourhoods of
  * 25 hashed exemplar texels: the exemplar's colours and heights without structure).
  * Completeness is the other direction (Simakov et al. 2008's bidirectional
  * similarity): the leave-one-out query texels of the exemplar against the nearest
