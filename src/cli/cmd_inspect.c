@@ -290,7 +290,8 @@ static void print_table(pg_cli *cli, const pg_planet *p, const inspect_figures *
     for (int k = 0; k < PG_VIEWS_COUNT; k++)
         pg_cli_info(cli, "  %-12s %9.4f\n", pg_views_centre_get(k)->name,
                     q->d[PG_INSPECT_SRC_PLANET][k].distance);
-    pg_cli_info(cli, "  pole/equator north %.3f, south %.3f\n", q->ratio_north, q->ratio_south);
+    pg_cli_info(cli, "  pole/equator north %.3f, south %.3f (no floor added)\n", q->raw_north,
+                q->raw_south);
 }
 
 /* ---- JSON ---- */
@@ -397,9 +398,10 @@ static void json_views(pg_json *res, const inspect_figures *f) {
     }
     const pg_inspect_poles *q = &f->poles;
     pg_json *t = pg_json_set_object(res, "texture");
-    pg_json_set_number(t, "pole_equator_ratio", q->pole_equator_ratio);
-    pg_json_set_number(t, "ratio_north", q->ratio_north);
-    pg_json_set_number(t, "ratio_south", q->ratio_south);
+    /* no JND floor: without a gate, the raw ratios say what was measured */
+    pg_json_set_number(t, "pole_equator_ratio", fmax(q->raw_north, q->raw_south));
+    pg_json_set_number(t, "ratio_north", q->raw_north);
+    pg_json_set_number(t, "ratio_south", q->raw_south);
     for (int k = 0; k < PG_VIEWS_COUNT; k++) {
         pg_json *v = pg_json_set_object(t, pg_views_centre_get(k)->name);
         pg_json_set_number(v, "distance", q->d[PG_INSPECT_SRC_PLANET][k].distance);
