@@ -24,7 +24,7 @@
 typedef struct census_work {
     const pg_pits_topo *t;
     const pg_earthlike_geom *g;
-    uint8_t *todo; /* 1: land not yet enqueued */
+    uint8_t *unvisited; /* 1: land not yet enqueued */
     uint32_t *queue;
 } census_work;
 
@@ -40,14 +40,14 @@ static uint64_t flood(census_work *c, uint32_t s) {
     uint64_t area = 0;
     uint32_t nb[8];
     c->queue[tail++] = s;
-    c->todo[s] = 0;
+    c->unvisited[s] = 0;
     while (head < tail) {
         uint32_t id = c->queue[head++];
         area += texel_weight(c->g, id);
         int k = pg_pits_neighbours(c->t, id, nb);
         for (int j = 0; j < k; j++)
-            if (c->todo[nb[j]]) {
-                c->todo[nb[j]] = 0;
+            if (c->unvisited[nb[j]]) {
+                c->unvisited[nb[j]] = 0;
                 c->queue[tail++] = nb[j];
             }
     }
@@ -95,7 +95,7 @@ static pg_status flood_all(census_work *c, uint64_t **area, size_t *count, pg_er
     *area = malloc(cap * sizeof **area);
     if (!*area) return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for landmasses");
     for (uint64_t id = 0; id < c->t->ncells; id++) {
-        if (!c->todo[id]) continue;
+        if (!c->unvisited[id]) continue;
         if (*count == cap) {
             uint64_t *more = realloc(*area, 2 * cap * sizeof *more);
             if (!more) return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory");
@@ -113,11 +113,12 @@ pg_status pg_earthlike_census(const pg_planet *p, const pg_earthlike_geom *g, pg
     if (st) return st;
     int64_t nn = p->n * p->n, land = 0;
     census_work c = {&t, g, malloc(t.ncells), NULL};
-    if (!c.todo) return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for landmasses");
+    if (!c.unvisited)
+        return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for landmasses");
 #pragma omp parallel for schedule(static) reduction(+ : land)
     for (int64_t id = 0; id < (int64_t)t.ncells; id++) {
-        c.todo[id] = p->height[id / nn][id % nn] > p->sea_level;
-        land += c.todo[id];
+        c.unvisited[id] = p->height[id / nn][id % nn] > p->sea_level;
+        land += c.unvisited[id];
     }
     c.queue = malloc((size_t)(land ? land : 1) * sizeof *c.queue);
     uint64_t *area = NULL;
@@ -127,6 +128,6 @@ pg_status pg_earthlike_census(const pg_planet *p, const pg_earthlike_geom *g, pg
     if (st == PG_OK) summarise(area, count, g->unit_m2, out);
     free(area);
     free(c.queue);
-    free(c.todo);
+    free(c.unvisited);
     return st;
 }
