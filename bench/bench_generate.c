@@ -1,4 +1,4 @@
-/* bench_generate.c - whole-planet synthesis figures (issue 5): the default planet
+/* bench_generate.c - whole-planet synthesis figures (docs/generate.md): the default planet
  * (6 x 4^2 x 256^2 = 6.3 Mpx) and the large one (6 x 8^2 x 512^2 = 100 Mpx): wall time,
  * Mpx/s, Gain-pit share of the time, peak RSS and peak bytes per output texel beyond the
  * prepared exemplar, each with the exemplar `planetgen generate` picks for it (faces of

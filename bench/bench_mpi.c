@@ -1,4 +1,4 @@
-/* bench_mpi.c - figures of the MPI-distributed generate (issue 10): strong scaling from
+/* bench_mpi.c - figures of the MPI-distributed generate (docs/mpi.md): strong scaling from
  * one process to two ranks on this machine's 2 cores, peak RSS per rank, and the bytes
  * the ranks communicate per level (tile edges point-to-point, and the level allgathers
  * of the steps that are not distributed). It drives the CLI as a user would

@@ -1,6 +1,7 @@
-/* bench_synth.c - figures for issue 4: exemplar preparation cold and cached, end-to-end
- * flat synthesis throughput (output texels per second over all levels), where the time
- * goes (per preparation stage, per synthesis level), and peak memory per output texel.
+/* bench_synth.c - synthesis figures (docs/synthesis.md): exemplar preparation cold
+ * and cached, end-to-end flat synthesis throughput (output texels per second over all
+ * levels), where the time goes (per preparation stage, per synthesis level), and peak
+ * memory per output texel.
  *
  * usage: bench_synth [N (default 2048)] [cache dir (default: a fresh temp dir)]
  * Threads: OMP_NUM_THREADS (the issue's figure is for 2). Prints, never asserts. */

@@ -1,5 +1,5 @@
 /* test_determinism.c - the same inputs and seed give byte-identical output files across
- * runs, thread counts (OMP_NUM_THREADS=1 vs 2) and tilings (issue 9), checked by
+ * runs, thread counts (OMP_NUM_THREADS=1 vs 2) and tilings (docs/generate.md), checked by
  * hashing every file the CLI writes: `generate` (per-face PNGs, height.exr, planet.glb,
  * planet.json, previews, globe renders), `synth` (albedo.png, height.exr, coords.png)
  * and `pits` (the corrected DEM for each method).

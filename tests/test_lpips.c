@@ -1,6 +1,6 @@
 /* test_lpips.c - the LPIPS-style distance on real texture: crops of NASA Blue Marble.
  *
- * Properties (issue 8): identical images score 0; the distance is symmetric; it rises
+ * Properties (docs/inspect.md): identical images score 0; the distance is symmetric; it rises
  * monotonically with blur strength and with stretch factor; a slightly shifted crop
  * of a texture scores much lower than a different texture. */
 #include "pg_test.h"

@@ -1,4 +1,4 @@
-/* test_mpi_generate.c - `mpirun -np N planetgen generate` (issue 10) end to end: the
+/* test_mpi_generate.c - `mpirun -np N planetgen generate` (docs/mpi.md) end to end: the
  * tiled output of 1, 2 and 4 ranks is byte for byte the single-process tiled output
  * (default pits, --pits off, other final pit methods, a magnified planet); a rank that
  * dies mid-run makes the job exit non-zero with its line and leaves no output; more

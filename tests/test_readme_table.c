@@ -1,4 +1,4 @@
-/* test_readme_table.c - the README's bad-input table is the contract of issue 9: every
+/* test_readme_table.c - the README's bad-input table is a tested contract: every
  * row must name at least one test, and every test it names must exist. This test
  * parses the table under "## Bad input" in README.md and, for each `FILE.c:FUNCTION`
  * in a row's last column, checks that tests/FILE.c defines `static void FUNCTION(void
