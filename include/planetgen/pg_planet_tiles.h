@@ -1,6 +1,7 @@
-/* pg_planet_tiles.h - the tiled layout of a planet directory (issue 10): one albedo
- * PNG and one height EXR per tile plus an index, for planets too large for one .glb
- * and for distributed runs, where each process writes only its own tiles.
+/* pg_planet_tiles.h - the tiled layout of a planet directory (docs/mpi.md, "What is
+ * distributed, and how", Output): one albedo PNG and one height EXR per tile plus an
+ * index, for planets too large for one .glb and for distributed runs, where each
+ * process writes only its own tiles.
  *
  * Files, for tile (tx, ty) of face F (F = +X -X +Y -Y +Z -Z; tile_size S):
  *   albedo_F_TX_TY.png  8-bit sRGB RGB, S x S

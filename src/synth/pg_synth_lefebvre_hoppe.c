@@ -27,7 +27,7 @@
  * other classes and its own (incumbent) value, and writes only itself; so every
  * texel's result is a function of the state before the sub-pass. Tiles, threads and
  * scan order cannot change it. Halo texels across a cube seam carry an orientation:
- * offsets into them are rotated into their frame (the seam rotation of issue 5).
+ * offsets into them are rotated into their frame (docs/synthesis.md, "Reuse by the planet").
  * Ties keep the incumbent, then the earliest candidate, so results are exact. */
 #include "pg_synth_internal.h"
 
