@@ -1,7 +1,6 @@
-/* pg_mpi.h - MPI-distributed planet synthesis (docs/mpi.md, "What is distributed, and
- * how"): which process owns which tiles, the tile-edge exchange the synthesis needs at
- * every level and sub-pass, and the few collectives the CLI needs to start, agree and
- * stop together.
+/* pg_mpi.h - MPI-distributed planet synthesis (docs/mpi.md): which process owns which
+ * tiles, the tile-edge exchange the synthesis needs at every level and sub-pass, and
+ * the few collectives the CLI needs to start, agree and stop together.
  *
  * THE IDEA. The synthesis (pg_planet_synth.h) corrects every tile from its own texels
  * and a one-texel halo of its neighbours' current edges. So a process that owns a set

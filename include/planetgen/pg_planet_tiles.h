@@ -1,7 +1,6 @@
-/* pg_planet_tiles.h - the tiled layout of a planet directory (docs/mpi.md, "What is
- * distributed, and how", Output): one albedo PNG and one height EXR per tile plus an
- * index, for planets too large for one .glb and for distributed runs, where each
- * process writes only its own tiles.
+/* pg_planet_tiles.h - the tiled layout of a planet directory (docs/mpi.md): one albedo
+ * PNG and one height EXR per tile plus an index, for planets too large for one .glb
+ * and for distributed runs, where each process writes only its own tiles.
  *
  * Files, for tile (tx, ty) of face F (F = +X -X +Y -Y +Z -Z; tile_size S):
  *   albedo_F_TX_TY.png  8-bit sRGB RGB, S x S

@@ -13,7 +13,7 @@
  *     then c correction passes of 4 sub-passes each. The per-level operations work on
  *     a *view* (a rectangle of a level with a one-texel halo of read-only neighbour
  *     texels), so a planet can run them per tile with halos gathered across tile edges
- *     and cube seams (docs/generate.md, "Method"), and pit removal can edit V between passes.
+ *     and cube seams, and pit removal can edit V between passes.
  *
  * Levels are named by their "scale" s: exemplar spacing h = 2^s, s = 0 finest. All
  * randomness is a hash of (seed, scale, face, global x, global y): results do not
