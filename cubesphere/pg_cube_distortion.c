@@ -29,6 +29,8 @@
  * per row and added in row order, so the result does not depend on the number of OpenMP threads. */
 #include "pg_cube_internal.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -174,11 +176,9 @@ pg_status pg_cube_distortion_compute(pg_cube_projection p, int64_t n, const pg_e
 }
 
 double pg_cube_spherical_triangle(const double a[3], const double b[3], const double c[3]) {
-    double bxc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
-                     b[0] * c[1] - b[1] * c[0]};
-    double num = fabs(a[0] * bxc[0] + a[1] * bxc[1] + a[2] * bxc[2]);
-    double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
-                 (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) +
-                 (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]);
+    double bxc[3];
+    pg_vec3_cross(b, c, bxc);
+    double num = fabs(pg_vec3_dot(a, bxc));
+    double den = 1 + pg_vec3_dot(a, b) + pg_vec3_dot(b, c) + pg_vec3_dot(c, a);
     return 2 * atan2(num, den);
 }

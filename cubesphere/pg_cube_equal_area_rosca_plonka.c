@@ -20,6 +20,8 @@
  * still meet across seams. */
 #include "pg_cube_internal.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 
 static const double PG_PI = 3.14159265358979323846;
@@ -60,7 +62,7 @@ static void wedge_inverse(double x, double y, double z, double *a, double *b) {
 }
 
 void pg_cube_rp_inverse(const double local[3], double *a, double *b) {
-    double r = sqrt(local[0] * local[0] + local[1] * local[1] + local[2] * local[2]);
+    double r = pg_vec3_length(local);
     double x = local[0] / r, y = local[1] / r, z = local[2] / r;
     if (x == 0 && y == 0) {
         *a = *b = 0;

@@ -5,27 +5,9 @@
 
 #include "planetgen/pg_export.h"
 
-#include <math.h>
-
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Small 3-vector helpers in double precision. */
-static inline void pg_export_cross3(const double a[3], const double b[3], double o[3]) {
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double pg_export_dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void pg_export_normalize3(double v[3]) {
-    double l = sqrt(pg_export_dot3(v, v));
-    if (l > 0) v[0] /= l, v[1] /= l, v[2] /= l;
-}
 
 /* The subdivided-cube globe. Vertex (i, j) of face f, 0 <= i, j <= m, sits at grid
  * coordinates u = 2i/m - 1, v = 2j/m - 1 and is stored at j*(m+1) + i. Every vertex

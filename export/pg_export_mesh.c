@@ -13,6 +13,8 @@
  * agree across seams too and the shading shows no crease. */
 #include "pg_export_internal.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -143,11 +145,9 @@ static void accumulate_normals(const pg_export_mesh *mesh, const double *cpos, d
         for (uint32_t t = 0; t < mesh->ni; t += 3) {
             uint32_t k[3] = {canon[mesh->idx[t]], canon[mesh->idx[t + 1]], canon[mesh->idx[t + 2]]};
             double e1[3], e2[3], nt[3];
-            for (int c = 0; c < 3; c++) {
-                e1[c] = cpos[3 * k[1] + c] - cpos[3 * k[0] + c];
-                e2[c] = cpos[3 * k[2] + c] - cpos[3 * k[0] + c];
-            }
-            pg_export_cross3(e1, e2, nt);
+            pg_vec3_sub(cpos + 3 * k[1], cpos + 3 * k[0], e1);
+            pg_vec3_sub(cpos + 3 * k[2], cpos + 3 * k[0], e2);
+            pg_vec3_cross(e1, e2, nt);
             for (int v = 0; v < 3; v++)
                 for (int c = 0; c < 3; c++)
                     cnrm[3 * k[v] + c] += nt[c];
@@ -165,15 +165,16 @@ static void tangent_at(const pg_export_mesh *mesh, const double *cpos, int f, in
     int j0 = j > 0 ? j - 1 : j, j1 = j < m ? j + 1 : j;
     const double *a = cpos + 3 * canon[j * w + i0], *b = cpos + 3 * canon[j * w + i1];
     const double *c = cpos + 3 * canon[j0 * w + i], *d = cpos + 3 * canon[j1 * w + i];
-    double t[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double bt[3] = {d[0] - c[0], d[1] - c[1], d[2] - c[2]};
-    double dn = t[0] * nrm[0] + t[1] * nrm[1] + t[2] * nrm[2];
+    double t[3], bt[3];
+    pg_vec3_sub(b, a, t);
+    pg_vec3_sub(d, c, bt);
+    double dn = pg_vec3_dot(t, nrm);
     for (int k = 0; k < 3; k++)
         t[k] -= dn * nrm[k];
-    pg_export_normalize3(t);
+    pg_vec3_normalize(t);
     double nxt[3];
-    pg_export_cross3(nrm, t, nxt);
-    double s = nxt[0] * bt[0] + nxt[1] * bt[1] + nxt[2] * bt[2];
+    pg_vec3_cross(nrm, t, nxt);
+    double s = pg_vec3_dot(nxt, bt);
     for (int k = 0; k < 3; k++)
         out[k] = (float)t[k];
     out[3] = s >= 0 ? 1.0f : -1.0f;
@@ -184,7 +185,7 @@ static void emit_faces(pg_export_mesh *mesh, const double *cpos, double *cnrm) {
     int64_t total = 6 * (int64_t)mesh->nv;
 #pragma omp parallel for schedule(static)
     for (int64_t s = 0; s < total; s++)
-        if (mesh->canon[s] == (uint32_t)s) pg_export_normalize3(cnrm + 3 * s);
+        if (mesh->canon[s] == (uint32_t)s) pg_vec3_normalize(cnrm + 3 * s);
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         for (int j = 0; j <= m; j++)

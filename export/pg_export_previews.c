@@ -14,6 +14,8 @@
  * not displaced: at globe scale its silhouette is invisible anyway. */
 #include "pg_export_internal.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -112,8 +114,8 @@ static bool hit_point(const globe_ctx *c, double x, double y, double pnt[3]) {
     for (int k = 0; k < 3; k++)
         o[k] = x * c->right[k] + y * c->up[k] + 3 * c->a * c->view[k];
     double os[3] = {o[0], o[1], o[2] * s}, ds[3] = {-c->view[0], -c->view[1], -c->view[2] * s};
-    double A = pg_export_dot3(ds, ds), B = 2 * pg_export_dot3(os, ds),
-           C = pg_export_dot3(os, os) - c->a * c->a;
+    double A = pg_vec3_dot(ds, ds), B = 2 * pg_vec3_dot(os, ds),
+           C = pg_vec3_dot(os, os) - c->a * c->a;
     double disc = B * B - 4 * A * C;
     if (disc < 0) return false;
     double t = (-B - sqrt(disc)) / (2 * A);
@@ -126,14 +128,14 @@ static bool hit_point(const globe_ctx *c, double x, double y, double pnt[3]) {
  * tilted by the exaggerated height gradient along two tangents. */
 static void shade_point(const globe_ctx *c, const double pnt[3], float out[3]) {
     double ne[3] = {pnt[0] / (c->a * c->a), pnt[1] / (c->a * c->a), pnt[2] / (c->b * c->b)};
-    pg_export_normalize3(ne);
+    pg_vec3_normalize(ne);
     float col[4];
     pg_cube_sample(c->p->projection, c->r->n, c->r->cube, 4, pnt, col);
     double axis[3] = {0, 0, 1}, t1[3], t2[3];
     if (fabs(ne[2]) > 0.9) axis[0] = 1, axis[2] = 0;
-    pg_export_cross3(axis, ne, t1);
-    pg_export_normalize3(t1);
-    pg_export_cross3(ne, t1, t2);
+    pg_vec3_cross(axis, ne, t1);
+    pg_vec3_normalize(t1);
+    pg_vec3_cross(ne, t1, t2);
     double eps = 1.5 / (double)c->r->n, n[3] = {ne[0], ne[1], ne[2]};
     const double *tg[2] = {t1, t2};
     for (int a = 0; a < 2; a++) {
@@ -146,8 +148,8 @@ static void shade_point(const globe_ctx *c, const double pnt[3], float out[3]) {
         for (int k = 0; k < 3; k++)
             n[k] -= c->exaggeration * grad * tg[a][k];
     }
-    pg_export_normalize3(n);
-    double lam = pg_export_dot3(n, c->light);
+    pg_vec3_normalize(n);
+    double lam = pg_vec3_dot(n, c->light);
     double shade = 0.15 + 0.85 * (lam > 0 ? lam : 0);
     for (int k = 0; k < 3; k++)
         out[k] = (float)(col[k] * shade);
@@ -157,10 +159,10 @@ static void render_globe(globe_ctx *c, const globe_view *v, int size, float *rgb
     memcpy(c->view, v->view, sizeof c->view);
     memcpy(c->up, v->up, sizeof c->up);
     double fwd[3] = {-v->view[0], -v->view[1], -v->view[2]};
-    pg_export_cross3(fwd, c->up, c->right);
+    pg_vec3_cross(fwd, c->up, c->right);
     for (int k = 0; k < 3; k++)
         c->light[k] = 0.55 * c->view[k] + 0.6 * c->up[k] - 0.6 * c->right[k];
-    pg_export_normalize3(c->light);
+    pg_vec3_normalize(c->light);
 #pragma omp parallel for schedule(dynamic, 8)
     for (int py = 0; py < size; py++)
         for (int px = 0; px < size; px++) {

@@ -5,6 +5,8 @@
  * and diffs of reports stable. */
 #include "planetgen/pg_json.h"
 
+#include "pg_array.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,13 +55,7 @@ static char *dup_str(const char *s) {
 }
 
 static int append(pg_json *c, pg_json *child) {
-    if (c->n == c->cap) {
-        size_t cap = c->cap ? 2 * c->cap : 8;
-        pg_json **it = realloc(c->items, cap * sizeof *it);
-        if (!it) return -1;
-        c->items = it;
-        c->cap = cap;
-    }
+    if (PG_ARRAY_RESERVE(c->items, &c->cap, c->n + 1, NULL)) return -1;
     c->items[c->n++] = child;
     return 0;
 }

@@ -23,6 +23,8 @@
 #include "pg_drainage_internal.h"
 #include "planetgen/pg_pits.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -69,8 +71,9 @@ static pg_status ctx_init(d8_ctx *c, int64_t n, pg_cube_projection proj, const p
 }
 
 static double dist3(const double *p, const double *q) {
-    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
+    double d[3];
+    pg_vec3_sub(p, q, d);
+    return pg_vec3_length(d);
 }
 
 static float height_of(const d8_ctx *c, uint32_t id) {

@@ -16,6 +16,8 @@
  * reprojected at N = 1024 measures -2.17: its sizes fall off faster). */
 #include "pg_earthlike_internal.h"
 
+#include "pg_array.h"
+
 #include "planetgen/pg_pits.h"
 
 #include <math.h>
@@ -90,17 +92,15 @@ static void summarise(uint64_t *area, size_t count, double unit_m2, pg_earthlike
 
 /* Flood every landmass; *area gets their areas (caller frees). */
 static pg_status flood_all(census_work *c, uint64_t **area, size_t *count, pg_error *err) {
-    size_t cap = 64;
+    size_t cap = 0;
     *count = 0;
-    *area = malloc(cap * sizeof **area);
-    if (!*area) return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for landmasses");
+    *area = NULL;
+    if (PG_ARRAY_RESERVE(*area, &cap, 64, NULL))
+        return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for landmasses");
     for (uint64_t id = 0; id < c->t->ncells; id++) {
         if (!c->unvisited[id]) continue;
-        if (*count == cap) {
-            uint64_t *more = realloc(*area, 2 * cap * sizeof *more);
-            if (!more) return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory");
-            *area = more, cap *= 2;
-        }
+        if (PG_ARRAY_RESERVE(*area, &cap, *count + 1, NULL))
+            return pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory");
         (*area)[(*count)++] = flood(c, (uint32_t)id);
     }
     return PG_OK;

@@ -35,6 +35,8 @@
 #include "planetgen/pg_pits.h"
 #include "planetgen/pg_synth.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,10 +79,6 @@ static void shuffled_dir(const double s[3], uint32_t h, double out[3]) {
     out[2] = z;
 }
 
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Texel-centre directions of a cube of `size` texels per face edge. */
 typedef struct dir_table {
     pg_cube_projection proj;
@@ -114,9 +112,7 @@ static void dir_at(const dir_table *t, int face, int i, int j, double d[3]) {
     const double a = t->a[i], b = t->a[j];
     for (int k = 0; k < 3; k++)
         d[k] = n[k] + a * eu[k] + b * ev[k];
-    const double inv = 1.0 / sqrt(dot3(d, d));
-    for (int k = 0; k < 3; k++)
-        d[k] *= inv;
+    pg_vec3_scale(d, 1.0 / pg_vec3_length(d), d); /* by the reciprocal: rounds unlike normalize */
 }
 
 typedef struct copy_ctx {
@@ -135,8 +131,8 @@ static void copy_row(const copy_ctx *c, int f, int64_t y, uint64_t counts[2]) {
         dir_at(&c->own, f, (int)x, (int)y, d);
         dir_at(&c->src, pg_synth_face(row[x]), pg_synth_u(row[x]), pg_synth_v(row[x]), s);
         shuffled_dir(s, pg_synth_hash(p->seed, 0, f, (long)x, (long)y, COPY_HASH_SALT), t);
-        counts[0] += dot3(d, s) >= c->cos_r;
-        counts[1] += dot3(d, t) >= c->cos_r;
+        counts[0] += pg_vec3_dot(d, s) >= c->cos_r;
+        counts[1] += pg_vec3_dot(d, t) >= c->cos_r;
     }
 }
 

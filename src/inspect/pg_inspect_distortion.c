@@ -60,6 +60,8 @@
 #include "planetgen/pg_inspect_distortion.h"
 #include "planetgen/pg_synth.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,21 +108,13 @@ static const view_def VIEWS[PG_INSPECT_DISTORTION_NVIEWS] = {
     {"edge_s90w", PG_INSPECT_DISTORTION_EDGE, {0, -1, -1}},
 };
 
-/* ---- small vector helpers ---- */
+/* ---- angles and tangent frames ---- */
 
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void normalize3(double v[3]) {
-    double l = sqrt(dot3(v, v));
-    for (int i = 0; i < 3; i++)
-        v[i] /= l;
-}
-
+/* The angle between a and b, well conditioned near 0 and pi. */
 static double angle3(const double a[3], const double b[3]) {
-    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    return atan2(sqrt(dot3(c, c)), dot3(a, b));
+    double c[3];
+    pg_vec3_cross(a, b, c);
+    return atan2(pg_vec3_length(c), pg_vec3_dot(a, b));
 }
 
 /* Orthonormal tangent frame (t1, t2) at unit p: t1 from the axis p leans on least. */
@@ -134,29 +128,27 @@ static void tangent_init(tangent *t, const double p[3]) {
         if (fabs(p[i]) < fabs(p[k])) k = i;
     double e[3] = {0, 0, 0};
     e[k] = 1;
-    double c = dot3(e, p);
+    double c = pg_vec3_dot(e, p);
     for (int i = 0; i < 3; i++) {
         t->p[i] = p[i];
         t->t1[i] = e[i] - c * p[i];
     }
-    normalize3(t->t1);
-    t->t2[0] = p[1] * t->t1[2] - p[2] * t->t1[1];
-    t->t2[1] = p[2] * t->t1[0] - p[0] * t->t1[2];
-    t->t2[2] = p[0] * t->t1[1] - p[1] * t->t1[0];
+    pg_vec3_normalize(t->t1);
+    pg_vec3_cross(p, t->t1, t->t2);
 }
 
 /* Azimuthal equidistant (log) map of unit q at t->p, scaled by radius r: the tangent
  * component w of q, |w| = sin(angle), stretched to length angle. Near p (angle < 0.01)
  * asin(s) / s = 1 + s^2/6 + 3 s^4/40 + O(s^6), exact to 1e-13, saves the atan2. */
 static void tangent_log(const tangent *t, const double q[3], double r, double out[2]) {
-    double c = dot3(t->p, q), w[3];
+    double c = pg_vec3_dot(t->p, q), w[3];
     for (int i = 0; i < 3; i++)
         w[i] = q[i] - c * t->p[i];
-    double s2 = dot3(w, w), s = sqrt(s2);
+    double s2 = pg_vec3_dot(w, w), s = sqrt(s2);
     double k = c > 0 && s < 0.01 ? r * (1 + s2 / 6 + 0.075 * s2 * s2)
                                  : (s > 0 ? r * atan2(s, c) / s : 0.0);
-    out[0] = k * dot3(w, t->t1);
-    out[1] = k * dot3(w, t->t2);
+    out[0] = k * pg_vec3_dot(w, t->t1);
+    out[1] = k * pg_vec3_dot(w, t->t2);
 }
 
 /* ---- least squares and singular values ---- */
@@ -453,12 +445,12 @@ static bool cap_bbox(const pg_planet *p, int m, int f, const superblock *sb, int
     g->x1 = g->y1 = 0;
     for (int64_t i = 0; i < ns * ns; i++) {
         const superblock *s = &sb[f * ns * ns + i];
-        if (dot3(s->c, c) < s->cos_reach) continue;
+        if (pg_vec3_dot(s->c, c) < s->cos_reach) continue;
         for (int64_t y = s->y0; y < s->y1; y++)
             for (int64_t x = s->x0; x < s->x1; x++) {
                 double d[3];
                 block_dir(p, nb, f, x, y, d);
-                if (dot3(d, c) < cos_cap) continue;
+                if (pg_vec3_dot(d, c) < cos_cap) continue;
                 g->x0 = x < g->x0 ? x : g->x0;
                 g->y0 = y < g->y0 ? y : g->y0;
                 g->x1 = x + 1 > g->x1 ? x + 1 : g->x1;
@@ -473,7 +465,7 @@ static void visit_region(const pg_planet *p, int m, const region *g, const int64
                          const double c[3], double cos_cap, view_acc *acc) {
     for (int64_t y = box[1]; y < box[3]; y++)
         for (int64_t x = box[0]; x < box[2]; x++) {
-            if (dot3(g->pd + region_at(g, x, y), c) < cos_cap) continue;
+            if (pg_vec3_dot(g->pd + region_at(g, x, y), c) < cos_cap) continue;
             pg_inspect_distortion_texel t;
             measure_texel(p, m, g, x, y, &t);
             acc->texels++;
@@ -537,7 +529,7 @@ static void init_out(pg_inspect_distortion *out) {
         v->name = VIEWS[i].name;
         v->kind = VIEWS[i].kind;
         memcpy(v->dir, VIEWS[i].d, sizeof v->dir);
-        normalize3(v->dir);
+        pg_vec3_normalize(v->dir);
         v->share = v->figure = v->mean_scale = v->mean_anisotropy = NAN;
     }
     out->worst_figure = out->reference = out->ratio = out->share_ratio = NAN;

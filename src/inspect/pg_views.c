@@ -9,6 +9,8 @@
 
 #include "planetgen/pg_exemplar.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,12 +23,6 @@ static const pg_views_centre views_centres[PG_VIEWS_COUNT] = {
 
 const pg_views_centre *pg_views_centre_get(int view) {
     return (view >= 0 && view < PG_VIEWS_COUNT) ? &views_centres[view] : NULL;
-}
-
-static void cross(const double a[3], const double b[3], double o[3]) {
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 void pg_views_frame(int view, double c[3], double r[3], double u[3]) {
@@ -42,7 +38,7 @@ void pg_views_frame(int view, double c[3], double r[3], double u[3]) {
         c[0] = cos(lon), c[1] = sin(lon), c[2] = 0;
         u[0] = 0, u[1] = 0, u[2] = 1; /* north */
     }
-    cross(u, c, r); /* so that r x u = c */
+    pg_vec3_cross(u, c, r); /* so that r x u = c */
 }
 
 double pg_views_prefilter_deg(int size, double fov_deg, double planet_texel_deg,
@@ -68,8 +64,7 @@ static void point_samples(int view, int m, double fov_deg, pg_views_sampler s, v
             double x = t * (2 * (i + 0.5) / m - 1), y = t * (1 - 2 * (j + 0.5) / m);
             double d[3] = {c[0] + x * r[0] + y * u[0], c[1] + x * r[1] + y * u[1],
                            c[2] + x * r[2] + y * u[2]};
-            double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            d[0] /= len, d[1] /= len, d[2] /= len;
+            pg_vec3_normalize(d);
             s(user, d, pts + ((size_t)j * m + i) * 4);
         }
     }

@@ -15,6 +15,8 @@
  * edges; ocean sinks are below every land cell anyway. */
 #include "pg_pits_internal.h"
 
+#include "pg_array.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -25,14 +27,7 @@ void pits_heap_free(pits_heap *q) {
 }
 
 void pits_heap_grow(pits_heap *q) {
-    size_t cap = q->cap ? q->cap * 2 : 4096;
-    uint64_t *a = realloc(q->a, cap * sizeof *a);
-    if (!a) {
-        q->oom = 1;
-        return;
-    }
-    q->a = a;
-    q->cap = cap;
+    if (PG_ARRAY_RESERVE(q->a, &q->cap, q->n + 1, NULL)) q->oom = 1;
 }
 
 static void sift_down(uint64_t *a, size_t n, size_t i) {
@@ -72,14 +67,7 @@ void pits_fifo_grow(pits_fifo *f) {
         f->head = 0;
         return;
     }
-    size_t cap = f->cap ? f->cap * 2 : 4096;
-    uint32_t *a = realloc(f->a, cap * sizeof *a);
-    if (!a) {
-        f->oom = 1;
-        return;
-    }
-    f->a = a;
-    f->cap = cap;
+    if (PG_ARRAY_RESERVE(f->a, &f->cap, f->tail + 1, NULL)) f->oom = 1;
 }
 
 pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *err) {

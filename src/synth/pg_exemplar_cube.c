@@ -19,6 +19,8 @@
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_exemplar.h"
 
+#include "pg_vec3.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,7 +129,7 @@ pg_status pg_exemplar_cube_build(const float *albedo, const float *height, int w
                 double v = (2.0 * (y - gutter) + 1.0) / size - 1.0;
                 double d[3];
                 pg_cube_to_dir(PG_CUBE_DEFAULT_PROJECTION, face, u, v, d);
-                double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                double r = pg_vec3_length(d);
                 double lat = asin(d[2] / r) * (180.0 / M_PI);
                 double lon = atan2(d[1], d[0]) * (180.0 / M_PI);
                 float rgb[3], h;

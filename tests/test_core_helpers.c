@@ -1,0 +1,194 @@
+/* test_core_helpers.c - the library-internal helpers of src/core: the growable array
+ * (pg_array.h) grows by doubling, keeps its contents, refuses sizes that would wrap
+ * around size_t instead of allocating a small block, and leaves the array untouched on
+ * refusal; the 3-vector helpers (pg_vec3.h) satisfy the identities of the algebra and
+ * compute exactly the expressions they replaced. */
+#include "pg_test.h"
+
+#include "pg_array.h"
+#include "pg_vec3.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void test_array_growth(void **state) {
+    (void)state;
+    uint32_t *a = NULL;
+    size_t n = 0, cap = 0, reallocs = 0;
+    pg_error err = {0};
+    for (uint32_t i = 0; i < 100000; i++) {
+        size_t before = cap;
+        assert_int_equal(PG_ARRAY_RESERVE(a, &cap, n + 1, &err), PG_OK);
+        assert_true(cap >= n + 1);
+        if (cap != before) {
+            reallocs++;
+            /* first capacity, then doubling */
+            assert_true(before == 0 ? cap == PG_ARRAY_MIN_CAP : cap == 2 * before);
+        }
+        a[n++] = i * 7u;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        assert_int_equal(a[i], i * 7u);
+    /* O(log n) reallocations: 16 * 2^13 = 131072 is the first capacity >= 100000 */
+    assert_int_equal(cap, 131072);
+    assert_int_equal(reallocs, 14);
+    assert_int_equal(err.status, PG_OK);
+    free(a);
+}
+
+static void test_array_reserve_jumps(void **state) {
+    (void)state;
+    double *a = NULL;
+    size_t cap = 0;
+    /* one call for many elements doubles until it fits, in one reallocation */
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, 1000, NULL), PG_OK);
+    assert_int_equal(cap, 1024);
+    a[999] = 1.5;
+    /* enough room already: nothing changes */
+    double *same = a;
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, 1024, NULL), PG_OK);
+    assert_ptr_equal(a, same);
+    assert_int_equal(cap, 1024);
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, 1025, NULL), PG_OK);
+    assert_int_equal(cap, 2048);
+    assert_true(a[999] == 1.5);
+    free(a);
+}
+
+static void test_array_zero_sizes(void **state) {
+    (void)state;
+    int *a = NULL;
+    size_t cap = 0;
+    pg_error err = {0};
+    /* room for no elements: nothing to allocate */
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, 0, &err), PG_OK);
+    assert_null(a);
+    assert_int_equal(cap, 0);
+    /* a zero element size is a caller error, not a division by zero */
+    assert_int_equal(pg_array_reserve(&a, &cap, 4, 0, &err), PG_ERR_BADINPUT);
+    assert_int_equal(err.status, PG_ERR_BADINPUT);
+    assert_null(a);
+    assert_int_equal(cap, 0);
+}
+
+static void test_array_overflow_refused(void **state) {
+    (void)state;
+    uint64_t *a = NULL;
+    size_t cap = 0;
+    pg_error err = {0};
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, 100, &err), PG_OK);
+    a[0] = 42;
+    uint64_t *kept = a;
+    /* need * 8 wraps around size_t: refused, array untouched */
+    const size_t huge[] = {SIZE_MAX, SIZE_MAX / 8 + 1, SIZE_MAX / 2};
+    for (size_t k = 0; k < sizeof huge / sizeof huge[0]; k++) {
+        pg_error_clear(&err);
+        assert_int_equal(PG_ARRAY_RESERVE(a, &cap, huge[k], &err), PG_ERR_NOMEM);
+        assert_int_equal(err.status, PG_ERR_NOMEM);
+        assert_true(strlen(err.msg) > 0);
+        assert_ptr_equal(a, kept);
+        assert_int_equal(cap, 128);
+        assert_int_equal(a[0], 42);
+    }
+    /* the same with a large element size and a modest count */
+    pg_error_clear(&err);
+    assert_int_equal(pg_array_reserve(&a, &cap, 1u << 20, SIZE_MAX / 1024, &err), PG_ERR_NOMEM);
+    assert_ptr_equal(a, kept);
+    assert_int_equal(cap, 128);
+    /* err may be NULL: the status alone reports the refusal */
+    assert_int_equal(PG_ARRAY_RESERVE(a, &cap, SIZE_MAX, NULL), PG_ERR_NOMEM);
+    free(a);
+}
+
+static void test_vec3_arithmetic(void **state) {
+    (void)state;
+    const double a[3] = {1.5, -2.25, 4}, b[3] = {0.5, 3, -1};
+    double o[3];
+    pg_vec3_add(a, b, o);
+    assert_true(o[0] == 2 && o[1] == 0.75 && o[2] == 3);
+    pg_vec3_sub(a, b, o);
+    assert_true(o[0] == 1 && o[1] == -5.25 && o[2] == 5);
+    pg_vec3_scale(a, -2, o);
+    assert_true(o[0] == -3 && o[1] == 4.5 && o[2] == -8);
+    assert_true(pg_vec3_dot(a, b) == 0.75 - 6.75 - 4);
+    /* in place: o may alias an input */
+    double v[3] = {1, 2, 3};
+    pg_vec3_add(v, v, v);
+    assert_true(v[0] == 2 && v[1] == 4 && v[2] == 6);
+    pg_vec3_sub(v, b, v);
+    assert_true(v[0] == 1.5 && v[1] == 1 && v[2] == 7);
+}
+
+static void test_vec3_cross(void **state) {
+    (void)state;
+    const double x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+    double o[3];
+    pg_vec3_cross(x, y, o);
+    assert_true(o[0] == 0 && o[1] == 0 && o[2] == 1);
+    pg_vec3_cross(y, z, o);
+    assert_true(o[0] == 1 && o[1] == 0 && o[2] == 0);
+    pg_vec3_cross(z, x, o);
+    assert_true(o[0] == 0 && o[1] == 1 && o[2] == 0);
+    /* orthogonal to both factors, antisymmetric, |a x b|^2 = |a|^2 |b|^2 - (a.b)^2 */
+    uint32_t s = 12345;
+    for (int t = 0; t < 1000; t++) {
+        double a[3], b[3], ab[3], ba[3];
+        for (int k = 0; k < 3; k++) {
+            s = s * 1664525u + 1013904223u;
+            a[k] = (double)s / 4294967296.0 * 2 - 1;
+            s = s * 1664525u + 1013904223u;
+            b[k] = (double)s / 4294967296.0 * 2 - 1;
+        }
+        pg_vec3_cross(a, b, ab);
+        pg_vec3_cross(b, a, ba);
+        assert_true(fabs(pg_vec3_dot(ab, a)) < 1e-15);
+        assert_true(fabs(pg_vec3_dot(ab, b)) < 1e-15);
+        for (int k = 0; k < 3; k++)
+            assert_true(ab[k] == -ba[k]);
+        double lagrange =
+            pg_vec3_dot(a, a) * pg_vec3_dot(b, b) - pg_vec3_dot(a, b) * pg_vec3_dot(a, b);
+        assert_true(fabs(pg_vec3_dot(ab, ab) - lagrange) < 1e-14);
+    }
+    double self[3];
+    pg_vec3_cross(x, x, self);
+    assert_true(self[0] == 0 && self[1] == 0 && self[2] == 0);
+}
+
+static void test_vec3_length_normalize(void **state) {
+    (void)state;
+    const double p[3] = {3, 4, 12};
+    assert_true(pg_vec3_length(p) == 13);
+    double v[3] = {3, 4, 12};
+    pg_vec3_normalize(v);
+    assert_true(v[0] == 3.0 / 13 && v[1] == 4.0 / 13 && v[2] == 12.0 / 13);
+    assert_true(fabs(pg_vec3_length(v) - 1) < 1e-15);
+    /* the same bits as the expression it replaced: each component divided by the length */
+    double w[3] = {0.1, -0.7, 2.3}, r[3] = {0.1, -0.7, 2.3};
+    double len = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    r[0] /= len, r[1] /= len, r[2] /= len;
+    pg_vec3_normalize(w);
+    assert_memory_equal(w, r, sizeof w);
+    /* tiny and huge vectors keep their direction and come out unit length */
+    double tiny[3] = {1e-100, 0, -1e-100}, huge[3] = {1e150, 1e150, 0};
+    pg_vec3_normalize(tiny);
+    pg_vec3_normalize(huge);
+    assert_true(fabs(pg_vec3_length(tiny) - 1) < 1e-15);
+    assert_true(fabs(pg_vec3_length(huge) - 1) < 1e-15);
+    assert_true(tiny[0] > 0 && tiny[1] == 0 && tiny[2] < 0);
+    /* the zero vector stays zero instead of turning into NaNs */
+    double zero[3] = {0, 0, 0};
+    pg_vec3_normalize(zero);
+    assert_true(zero[0] == 0 && zero[1] == 0 && zero[2] == 0);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_array_growth),          cmocka_unit_test(test_array_reserve_jumps),
+        cmocka_unit_test(test_array_zero_sizes),      cmocka_unit_test(test_array_overflow_refused),
+        cmocka_unit_test(test_vec3_arithmetic),       cmocka_unit_test(test_vec3_cross),
+        cmocka_unit_test(test_vec3_length_normalize),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
