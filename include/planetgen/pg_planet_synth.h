@@ -1,6 +1,7 @@
-/* pg_planet_synth.h - whole-planet synthesis by example on the cube sphere (issue 5),
- * terrain types (Gain et al. 2015 type constraints, EarthGen's four planet kinds) and
- * the elevation guide (Scott & Dodgson 2021 soft constraints).
+/* pg_planet_synth.h - whole-planet synthesis by example on the cube sphere
+ * (docs/generate.md, "Method"), terrain types (Gain et al. 2015 type constraints,
+ * EarthGen's four planet kinds) and the elevation guide (Scott & Dodgson 2021 soft
+ * constraints).
  *
  * THE DRIVER (pg_planet_synth_run) runs the Lefebvre-Hoppe engine of pg_synth.h
  * level-synchronously over all 6 T^2 tiles of the planet: at every level and every
@@ -112,11 +113,11 @@ typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE } pg_planet_layo
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
 #define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
 
-/* DISTRIBUTION HOOKS (issue 10; filled by pg_mpi.h, NULL in a single process). A
- * level of the synthesis, as the hooks see it: face f's texel (x, y), x and y in
- * -1..r (the one-texel border holds the neighbouring faces' edges), is element
- * f * face_stride + (y + 1) * stride + x + 1 of S and V. Tiles are ts x ts texels
- * at this level, T x T per face. */
+/* DISTRIBUTION HOOKS (docs/mpi.md, "What is distributed, and how"; filled by pg_mpi.h,
+ * NULL in a single process). A level of the synthesis, as the hooks see it: face f's
+ * texel (x, y), x and y in -1..r (the one-texel border holds the neighbouring faces'
+ * edges), is element f * face_stride + (y + 1) * stride + x + 1 of S and V. Tiles are
+ * ts x ts texels at this level, T x T per face. */
 typedef struct pg_planet_level {
     int scale, r, ts, T;
     size_t stride, face_stride;
@@ -174,7 +175,7 @@ typedef struct pg_planet_synth_params {
     void (*progress)(void *user, double frac); /* optional */
     void *progress_user;
 
-    /* distribution (issue 10): NULL, this process synthesizes every tile */
+    /* distribution (docs/mpi.md): NULL, this process synthesizes every tile */
     const pg_planet_synth_dist *dist;
 } pg_planet_synth_params;
 

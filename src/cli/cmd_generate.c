@@ -7,7 +7,9 @@
  * Every input is validated before work: numbers and choices, the pyramid (S a multiple
  * of 2^(levels-1)), the guide and type map (readable, 2:1, known colours), the preset,
  * and the memory estimate against the available memory (refused with the estimate
- * unless --max-memory raises the limit). Outputs are staged and renamed at the end. */
+ * unless --max-memory raises the limit). Outputs are staged and renamed at the end.
+ * The distributed run's glue (docs/mpi.md) is in cmd_generate_mpi.c. */
+#include "cmd_generate.h"
 #include "pg_commands.h"
 
 #include "planetgen/pg_exemplar.h"
@@ -16,27 +18,16 @@
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_mpi.h"
 #include "planetgen/pg_planet_synth.h"
-#include "planetgen/pg_planet_tiles.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #define GEN_LEVELS 6                       /* analysed levels of the exemplar (pg_synth default) */
 #define GEN_SOURCE_BYTES 4e8               /* the loaded source images */
 #define GEN_BYTES_PER_EXEMPLAR_TEXEL 200.0 /* preparing the exemplar cube, at its peak */
 #define GEN_MAP_BYTES_PER_TEXEL 4.0        /* the coordinate map (source.exr) */
-
-typedef struct gen_args {
-    const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
-    const char *output_layout; /* planet | tiled; NULL: planet, tiled when distributed */
-    pg_cli_exemplar in;
-    long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
-    double jitter, guide_weight, max_memory_gb;
-    bool no_cache, independent, no_glb;
-} gen_args;
 
 typedef struct gen_inputs {
     pg_guide guide;
@@ -44,13 +35,6 @@ typedef struct gen_inputs {
     uint8_t mask;
     bool has_guide, has_types;
 } gen_inputs;
-
-/* A distributed run (mpirun -np P, P > 1, docs/mpi.md): NULL mpi in one process. */
-typedef struct gen_mpi {
-    pg_mpi *mpi;
-    int rank, size;
-    bool tiled;
-} gen_mpi;
 
 static int validate(pg_cli *cli, const gen_args *a) {
     long S = a->tile_size, need = 1L << (GEN_LEVELS - 1);
@@ -139,8 +123,8 @@ static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_pa
     return pg_cli_check_memory(cli, what, need, a->max_memory_gb);
 }
 
-static pg_status prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
-                                  char *src_name, size_t name_size, pg_error *err) {
+pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                               char *src_name, size_t name_size, pg_error *err) {
     pg_exemplar_opts eo;
     pg_cli_exemplar_opts(&a->in, &eo);
     pg_exemplar src;
@@ -179,12 +163,7 @@ static pg_status adopt_coords(pg_planet *planet, int face_size, uint32_t *coords
     return st;
 }
 
-typedef struct path_ctx {
-    pg_cli *cli;
-    const char *dir;
-} path_ctx;
-
-static const char *path_for(const char *name, void *user) {
+const char *gen_path_for(const char *name, void *user) {
     path_ctx *pc = user;
     return pg_cli_output_path(pc->cli, pc->dir, name);
 }
@@ -200,7 +179,7 @@ static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *
     pg_status st = pg_export_check_opts(&o, p->tiles, p->tile_size, err);
     if (!st) st = pg_export_check_planet(&o, p, err);
     path_ctx pc = {cli, a->outdir};
-    if (!st) st = pg_export_write(p, &o, path_for, &pc, NULL, err);
+    if (!st) st = pg_export_write(p, &o, gen_path_for, &pc, NULL, err);
     return st;
 }
 
@@ -310,140 +289,6 @@ static void on_progress(void *user, double frac) {
     pg_cli_progress(user, frac);
 }
 
-/* ---- distributed runs (docs/mpi.md) ---- */
-
-/* A runtime failure in one rank of a distributed run: its line and clean-up, then the
- * whole job stops (MPI_Abort; the other ranks' signal watchers remove their staged
- * files), so no rank waits forever for a dead peer. */
-static int fail_all(pg_cli *cli, const gen_mpi *g, const pg_error *err) {
-    int rc = pg_cli_fail(cli, err);
-    if (g->mpi) pg_mpi_abort(g->mpi, rc);
-    return rc;
-}
-
-/* Ranks other than 0 keep quiet while every rank checks the same inputs, so that a bad
- * input gives one line, not one per rank: their stderr goes to /dev/null until
- * gen_loud. */
-static int gen_hush(void) {
-    int rank = 0;
-    if (pg_mpi_launcher_size(&rank) <= 1 || rank == 0) return -1;
-    fflush(stderr);
-    int saved = dup(2);
-    FILE *null = fopen("/dev/null", "w");
-    if (null) {
-        dup2(fileno(null), 2);
-        fclose(null);
-    }
-    return saved;
-}
-
-static void gen_loud(int *saved) {
-    if (*saved < 0) return;
-    fflush(stderr);
-    dup2(*saved, 2);
-    close(*saved);
-    *saved = -1;
-}
-
-/* Rank 0 first, then the others: the output directory and the exemplar cache are
- * created once and found by the other ranks. Returns the agreed exit code of rank 0's
- * attempt (0: go on). */
-static int rank0_first_outdir(pg_cli *cli, const gen_args *a, gen_mpi *g) {
-    pg_error err = {0};
-    int rc = 0;
-    if (g->rank == 0 && pg_cli_prepare_outdir(cli, a->outdir, &err) != PG_OK)
-        rc = pg_cli_fail(cli, &err);
-    rc = pg_mpi_max_int(g->mpi, rc);
-    if (!rc && g->rank != 0 && pg_cli_prepare_outdir(cli, a->outdir, &err) != PG_OK)
-        rc = fail_all(cli, g, &err);
-    return rc;
-}
-
-/* Every rank prepares the exemplar at once (the cache is written under a temporary
- * name and renamed, so concurrent writers are safe). Bad input fails on every rank
- * alike and rank 0 says so; any other failure is said by the rank that met it. */
-static int all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hushed,
-                              pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
-                              size_t name_size) {
-    pg_error err = {0};
-    int rc = 0;
-    if (prepare_exemplar(a, ex, pi, src_name, name_size, &err)) {
-        if (err.status != PG_ERR_BADINPUT) gen_loud(hushed);
-        rc = pg_cli_fail(cli, &err);
-    }
-    rc = pg_mpi_max_int(g->mpi, rc); /* also lines the ranks up before the synthesis */
-    if (rc && !err.status) pg_synth_exemplar_free(*ex), *ex = NULL;
-    return rc;
-}
-
-/* Figures of a distributed run: bytes sent per level (all ranks), peak RSS per rank.
- * Collective: every rank calls it; rank 0 prints and reports. */
-static void report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
-    const pg_mpi_stats *ms = pg_mpi_stats_get(g->mpi);
-    double *rss = calloc((size_t)g->size, sizeof *rss), halo[PG_MPI_MAX_SCALES],
-           gath[PG_MPI_MAX_SCALES], total = 0, rss_max = 0;
-    pg_mpi_gather_double(g->mpi, pg_cli_peak_rss_bytes(), rss ? rss : halo);
-    for (int s = 0; s < PG_MPI_MAX_SCALES; s++) {
-        halo[s] = pg_mpi_sum_double(g->mpi, ms->halo_bytes[s]);
-        gath[s] = pg_mpi_sum_double(g->mpi, ms->gather_bytes[s]);
-        total += halo[s] + gath[s];
-    }
-    double xsec = pg_mpi_sum_double(g->mpi, ms->seconds) / g->size;
-    double pbytes = pg_mpi_sum_double(g->mpi, ms->pits_bytes);
-    double psec = pg_mpi_sum_double(g->mpi, ms->pits_seconds) / g->size;
-    total += pbytes;
-    if (g->rank == 0 && rss) {
-        for (int q = 0; q < g->size; q++)
-            rss_max = rss[q] > rss_max ? rss[q] : rss_max;
-        pg_cli_info(cli,
-                    "mpi      %d ranks; %.2f MB communicated (tile edges, level allgathers, "
-                    "%.2f MB by the distributed pits); %.2f s per rank in exchanges, %.2f s in "
-                    "the pits; peak RSS per rank up to %.0f MB\n",
-                    g->size, total / 1e6, pbytes / 1e6, xsec, psec, rss_max / 1e6);
-        pg_json *r = pg_cli_report(cli);
-        pg_json *o = r ? pg_json_set_object(r, "mpi") : NULL;
-        if (o) {
-            pg_json_set_number(o, "ranks", g->size);
-            pg_json_set_number(o, "exchange_seconds_mean", xsec);
-            pg_json_set_number(o, "pits_seconds_mean", psec);
-            pg_json_set_number(o, "pits_bytes", pbytes);
-            pg_json *a = pg_json_set_array(o, "peak_rss_bytes_per_rank");
-            for (int q = 0; q < g->size; q++)
-                pg_json_push_number(a, rss[q]);
-            pg_json *h = pg_json_set_array(o, "halo_bytes_per_scale");
-            pg_json *ga = pg_json_set_array(o, "allgather_bytes_per_scale");
-            for (int s = 0; s <= s_top && s < PG_MPI_MAX_SCALES; s++) {
-                pg_json_push_number(h, halo[s]);
-                pg_json_push_number(ga, gath[s]);
-            }
-        }
-    }
-    free(rss);
-}
-
-/* The tiled layout: this process's tiles (all of them in one process), then, once
- * every rank has renamed its tiles into place, index.json from rank 0 - the mark
- * that the directory is complete. */
-static int write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet) {
-    const int n = 6 * planet->tiles * planet->tiles;
-    path_ctx pc = {cli, a->outdir};
-    pg_error err = {0};
-    pg_cli_stage_begin(cli, "write tiles");
-    pg_status st =
-        pg_planet_save_tiles(planet, pg_mpi_tile_first(n, g->size, g->rank),
-                             pg_mpi_tile_first(n, g->size, g->rank + 1), path_for, &pc, &err);
-    pg_cli_stage_end(cli);
-    if (st) return fail_all(cli, g, &err);
-    if (g->mpi) {
-        pg_mpi_barrier(g->mpi); /* every rank has written all its tiles */
-        if (pg_cli_commit(cli, &err)) return fail_all(cli, g, &err);
-        pg_mpi_barrier(g->mpi); /* every tile is in place */
-    }
-    if (g->rank == 0 && pg_planet_save_index(planet, path_for, &pc, &err))
-        return fail_all(cli, g, &err);
-    return 0;
-}
-
 static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *hushed) {
     pg_planet_synth_params p;
     set_params(a, in, &p);
@@ -451,13 +296,13 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     if (g->size > 1 && !(p.pits && p.final_pits)) p.pit_stats = false;
     double need;
     int rc = pg_mpi_max_int(g->mpi, check_memory(cli, a, &p, !g->tiled, &need));
-    if (!rc) rc = rank0_first_outdir(cli, a, g);
+    if (!rc) rc = gen_rank0_first_outdir(cli, a, g);
     if (rc) return rc;
     pg_synth_exemplar *ex = NULL;
     pg_synth_prep_info pi;
     char src_name[1100];
     pg_cli_stage_begin(cli, "prepare exemplar");
-    if ((rc = all_ranks_exemplar(cli, a, g, hushed, &ex, &pi, src_name, sizeof src_name)))
+    if ((rc = gen_all_ranks_exemplar(cli, a, g, hushed, &ex, &pi, src_name, sizeof src_name)))
         return rc;
     pg_cli_stage_end(cli);
     gen_loud(hushed);
@@ -484,7 +329,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     } else {
         free(coords);
     }
-    if (st) return fail_all(cli, g, &err);
+    if (st) return gen_fail_all(cli, g, &err);
     pg_inspect_seams seams = {0};
     /* the seam figures read the whole planet: not in a distributed run */
     if (!g->mpi && pg_inspect_seams_compute(&planet, &seams, &err)) {
@@ -498,11 +343,11 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
          * a distributed run cannot compute the share without gathering the level, and
          * the layout's files must be the same bytes for any rank count. */
         planet.closed_land_share_before_final = NAN;
-        rc = write_tiled(cli, a, g, &planet);
+        rc = gen_write_tiled(cli, a, g, &planet);
     } else {
         pg_cli_stage_begin(cli, "write planet");
         path_ctx pc = {cli, a->outdir};
-        st = pg_planet_save(&planet, path_for, &pc, &err);
+        st = pg_planet_save(&planet, gen_path_for, &pc, &err);
         pg_cli_stage_end(cli);
         if (!st) {
             pg_cli_stage_begin(cli, "write previews and globe");
@@ -513,60 +358,9 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     }
     pg_planet_free(&planet);
     if (rc) return rc;
-    if (g->mpi) report_mpi(cli, g, si.s_top);
+    if (g->mpi) gen_report_mpi(cli, g, si.s_top);
     report(cli, a, &p, &pi, &si, need, g->mpi ? NULL : &seams, &sc);
     return pg_cli_finish(cli);
-}
-
-/* Under a launcher with P > 1 ranks: refuse a build without MPI, start MPI, refuse
- * more ranks than tiles and the single-file layout. Returns -1 to go on, else the
- * exit code (MPI already finalized). */
-static int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g) {
-    int lrank = 0, P = pg_mpi_launcher_size(&lrank);
-    memset(g, 0, sizeof *g);
-    g->size = 1;
-    g->tiled = a->output_layout && !strcmp(a->output_layout, "tiled");
-    if (P <= 1) return -1;
-    if (!pg_mpi_built()) {
-        if (lrank != 0) return 2;
-        return pg_cli_usage_error(cli,
-                                  "launched by mpirun with %d ranks, but this planetgen was built "
-                                  "without MPI (rebuild with cmake -DPG_MPI=ON, or run it "
-                                  "without mpirun)",
-                                  P);
-    }
-    pg_error err = {0};
-    if (pg_mpi_init(&g->mpi, &err)) return pg_cli_fail(cli, &err);
-    g->rank = pg_mpi_rank(g->mpi);
-    g->size = pg_mpi_size(g->mpi);
-    g->tiled = true;
-    int rc = -1;
-    long ntiles = 6 * a->tiles * a->tiles;
-    if (g->size > ntiles)
-        rc = g->rank ? 2
-                     : pg_cli_usage_error(cli,
-                                          "mpirun -np %d: more ranks than the %ld tiles of the "
-                                          "planet (6 x --tiles %ld^2); use at most %ld ranks or "
-                                          "more --tiles",
-                                          g->size, ntiles, a->tiles, ntiles);
-    else if (a->output_layout && strcmp(a->output_layout, "tiled"))
-        rc = g->rank ? 2
-                     : pg_cli_usage_error(cli,
-                                          "--output-layout %s: a distributed run writes each "
-                                          "rank's tiles (--output-layout tiled); the planet "
-                                          "layout needs the whole planet in one process",
-                                          a->output_layout);
-    if (rc >= 0) {
-        pg_mpi_finalize(g->mpi);
-        g->mpi = NULL;
-        return rc;
-    }
-    if (g->rank != 0) { /* rank 0 speaks for the job */
-        cli->quiet = true;
-        pg_json_free(pg_cli_report(cli));
-        cli->report = NULL;
-    }
-    return -1;
 }
 
 int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {

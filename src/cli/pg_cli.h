@@ -6,7 +6,11 @@
  * registered in main.c's table. It declares its options as a pg_opt array, calls
  * pg_cli_parse(), validates every input BEFORE creating any output, then works,
  * reporting stages with pg_cli_stage_begin/end. It returns an exit code (0/1/2)
- * through pg_cli_fail()/pg_cli_finish(). */
+ * through pg_cli_fail()/pg_cli_finish().
+ *
+ * Implemented by pg_cli.c (a command's life: init, usage error, fail, finish, report),
+ * pg_cli_options.c, pg_cli_signals.c, pg_cli_outputs.c, pg_cli_progress.c and
+ * pg_cli_memory.c. */
 #ifndef PG_CLI_H
 #define PG_CLI_H
 
@@ -206,5 +210,13 @@ int pg_cli_check_memory(pg_cli *cli, const char *what, double need, double max_m
         "--max-memory", NULL, PG_OPT_DOUBLE, &(dest), 0.001, 1e6, NULL, "GB",                      \
             "memory limit for the estimate checked before any work (default: available memory)"    \
     }
+
+/* Shared by the pg_cli*.c files, not for commands: monotonic seconds
+ * (pg_cli_progress.c), and the removal of the staged temporaries and of the output
+ * directory if we created it and it is empty, with cli->lock held (pg_cli_outputs.c;
+ * safe while writers still have the files open: the names go, the data is freed when
+ * they close). */
+double pg_cli_now(void);
+void pg_cli_remove_staged_locked(pg_cli *cli);
 
 #endif

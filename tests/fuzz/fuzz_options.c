@@ -1,4 +1,4 @@
-/* fuzz_options.c - libFuzzer harness for the CLI option parser (src/cli/pg_cli.c).
+/* fuzz_options.c - libFuzzer harness for the CLI option parser (src/cli/pg_cli_options.c).
  *
  * The input is split at NUL and newline bytes into argv words and parsed against a
  * spec with every option kind (flag, string, int, double, choice) plus the common

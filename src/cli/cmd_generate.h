@@ -1,0 +1,60 @@
+/* cmd_generate.h - what the two files of `planetgen generate` share: cmd_generate.c (the
+ * options, the inputs, the run and its report) and cmd_generate_mpi.c (the distributed
+ * run's glue: rank roles, quiet ranks, collective failures, the tiled output and the MPI
+ * figures; docs/mpi.md). Not for other commands. */
+#ifndef CMD_GENERATE_H
+#define CMD_GENERATE_H
+
+#include "pg_cli.h"
+
+#include "planetgen/pg_mpi.h"
+#include "planetgen/pg_planet.h"
+#include "planetgen/pg_synth.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef struct gen_args {
+    const char *outdir, *layout, *guide, *types, *preset, *pits, *final_pits, *cache_dir;
+    const char *output_layout; /* planet | tiled; NULL: planet, tiled when distributed */
+    pg_cli_exemplar in;
+    long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
+    double jitter, guide_weight, max_memory_gb;
+    bool no_cache, independent, no_glb;
+} gen_args;
+
+/* A distributed run (mpirun -np P, P > 1, docs/mpi.md): NULL mpi in one process. */
+typedef struct gen_mpi {
+    pg_mpi *mpi;
+    int rank, size;
+    bool tiled;
+} gen_mpi;
+
+/* The output namer handed to the writers: staged paths in dir (gen_path_for). */
+typedef struct path_ctx {
+    pg_cli *cli;
+    const char *dir;
+} path_ctx;
+
+/* ---- cmd_generate.c ---- */
+
+/* Load the exemplar sources and prepare (or load from the cache) the exemplar cube. */
+pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                               char *src_name, size_t name_size, pg_error *err);
+/* The staged path of output `name` in the path_ctx `user`. */
+const char *gen_path_for(const char *name, void *user);
+
+/* ---- cmd_generate_mpi.c ---- */
+
+int gen_fail_all(pg_cli *cli, const gen_mpi *g, const pg_error *err);
+int gen_hush(void);
+void gen_loud(int *saved);
+int gen_rank0_first_outdir(pg_cli *cli, const gen_args *a, gen_mpi *g);
+int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hushed,
+                           pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
+                           size_t name_size);
+void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top);
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet);
+int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g);
+
+#endif

@@ -1,0 +1,198 @@
+/* cmd_generate_mpi.c - the glue of a distributed `planetgen generate` (mpirun -np P,
+ * docs/mpi.md): starting MPI and refusing what a distributed run cannot do, quiet ranks
+ * while every rank checks the same inputs, rank 0 first where a directory or the cache
+ * is created, a failure in one rank stopping the job, the tiled output, and the figures
+ * of the run (bytes communicated, peak RSS per rank). In one process every function
+ * here does what the single-process run needs and no more (g->mpi is NULL). */
+#include "cmd_generate.h"
+
+#include "planetgen/pg_json.h"
+#include "planetgen/pg_planet_tiles.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* A runtime failure in one rank of a distributed run: its line and clean-up, then the
+ * whole job stops (MPI_Abort; the other ranks' signal watchers remove their staged
+ * files), so no rank waits forever for a dead peer. */
+int gen_fail_all(pg_cli *cli, const gen_mpi *g, const pg_error *err) {
+    int rc = pg_cli_fail(cli, err);
+    if (g->mpi) pg_mpi_abort(g->mpi, rc);
+    return rc;
+}
+
+/* Ranks other than 0 keep quiet while every rank checks the same inputs, so that a bad
+ * input gives one line, not one per rank: their stderr goes to /dev/null until
+ * gen_loud. */
+int gen_hush(void) {
+    int rank = 0;
+    if (pg_mpi_launcher_size(&rank) <= 1 || rank == 0) return -1;
+    fflush(stderr);
+    int saved = dup(2);
+    FILE *null = fopen("/dev/null", "w");
+    if (null) {
+        dup2(fileno(null), 2);
+        fclose(null);
+    }
+    return saved;
+}
+
+void gen_loud(int *saved) {
+    if (*saved < 0) return;
+    fflush(stderr);
+    dup2(*saved, 2);
+    close(*saved);
+    *saved = -1;
+}
+
+/* Rank 0 first, then the others: the output directory and the exemplar cache are
+ * created once and found by the other ranks. Returns the agreed exit code of rank 0's
+ * attempt (0: go on). */
+int gen_rank0_first_outdir(pg_cli *cli, const gen_args *a, gen_mpi *g) {
+    pg_error err = {0};
+    int rc = 0;
+    if (g->rank == 0 && pg_cli_prepare_outdir(cli, a->outdir, &err) != PG_OK)
+        rc = pg_cli_fail(cli, &err);
+    rc = pg_mpi_max_int(g->mpi, rc);
+    if (!rc && g->rank != 0 && pg_cli_prepare_outdir(cli, a->outdir, &err) != PG_OK)
+        rc = gen_fail_all(cli, g, &err);
+    return rc;
+}
+
+/* Every rank prepares the exemplar at once (the cache is written under a temporary
+ * name and renamed, so concurrent writers are safe). Bad input fails on every rank
+ * alike and rank 0 says so; any other failure is said by the rank that met it. */
+int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hushed,
+                           pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
+                           size_t name_size) {
+    pg_error err = {0};
+    int rc = 0;
+    if (gen_prepare_exemplar(a, ex, pi, src_name, name_size, &err)) {
+        if (err.status != PG_ERR_BADINPUT) gen_loud(hushed);
+        rc = pg_cli_fail(cli, &err);
+    }
+    rc = pg_mpi_max_int(g->mpi, rc); /* also lines the ranks up before the synthesis */
+    if (rc && !err.status) pg_synth_exemplar_free(*ex), *ex = NULL;
+    return rc;
+}
+
+/* Figures of a distributed run: bytes sent per level (all ranks), peak RSS per rank.
+ * Collective: every rank calls it; rank 0 prints and reports. */
+void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
+    const pg_mpi_stats *ms = pg_mpi_stats_get(g->mpi);
+    double *rss = calloc((size_t)g->size, sizeof *rss), halo[PG_MPI_MAX_SCALES],
+           gath[PG_MPI_MAX_SCALES], total = 0, rss_max = 0;
+    pg_mpi_gather_double(g->mpi, pg_cli_peak_rss_bytes(), rss ? rss : halo);
+    for (int s = 0; s < PG_MPI_MAX_SCALES; s++) {
+        halo[s] = pg_mpi_sum_double(g->mpi, ms->halo_bytes[s]);
+        gath[s] = pg_mpi_sum_double(g->mpi, ms->gather_bytes[s]);
+        total += halo[s] + gath[s];
+    }
+    double xsec = pg_mpi_sum_double(g->mpi, ms->seconds) / g->size;
+    double pbytes = pg_mpi_sum_double(g->mpi, ms->pits_bytes);
+    double psec = pg_mpi_sum_double(g->mpi, ms->pits_seconds) / g->size;
+    total += pbytes;
+    if (g->rank == 0 && rss) {
+        for (int q = 0; q < g->size; q++)
+            rss_max = rss[q] > rss_max ? rss[q] : rss_max;
+        pg_cli_info(cli,
+                    "mpi      %d ranks; %.2f MB communicated (tile edges, level allgathers, "
+                    "%.2f MB by the distributed pits); %.2f s per rank in exchanges, %.2f s in "
+                    "the pits; peak RSS per rank up to %.0f MB\n",
+                    g->size, total / 1e6, pbytes / 1e6, xsec, psec, rss_max / 1e6);
+        pg_json *r = pg_cli_report(cli);
+        pg_json *o = r ? pg_json_set_object(r, "mpi") : NULL;
+        if (o) {
+            pg_json_set_number(o, "ranks", g->size);
+            pg_json_set_number(o, "exchange_seconds_mean", xsec);
+            pg_json_set_number(o, "pits_seconds_mean", psec);
+            pg_json_set_number(o, "pits_bytes", pbytes);
+            pg_json *a = pg_json_set_array(o, "peak_rss_bytes_per_rank");
+            for (int q = 0; q < g->size; q++)
+                pg_json_push_number(a, rss[q]);
+            pg_json *h = pg_json_set_array(o, "halo_bytes_per_scale");
+            pg_json *ga = pg_json_set_array(o, "allgather_bytes_per_scale");
+            for (int s = 0; s <= s_top && s < PG_MPI_MAX_SCALES; s++) {
+                pg_json_push_number(h, halo[s]);
+                pg_json_push_number(ga, gath[s]);
+            }
+        }
+    }
+    free(rss);
+}
+
+/* The tiled layout: this process's tiles (all of them in one process), then, once
+ * every rank has renamed its tiles into place, index.json from rank 0 - the mark
+ * that the directory is complete. */
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet) {
+    const int n = 6 * planet->tiles * planet->tiles;
+    path_ctx pc = {cli, a->outdir};
+    pg_error err = {0};
+    pg_cli_stage_begin(cli, "write tiles");
+    pg_status st =
+        pg_planet_save_tiles(planet, pg_mpi_tile_first(n, g->size, g->rank),
+                             pg_mpi_tile_first(n, g->size, g->rank + 1), gen_path_for, &pc, &err);
+    pg_cli_stage_end(cli);
+    if (st) return gen_fail_all(cli, g, &err);
+    if (g->mpi) {
+        pg_mpi_barrier(g->mpi); /* every rank has written all its tiles */
+        if (pg_cli_commit(cli, &err)) return gen_fail_all(cli, g, &err);
+        pg_mpi_barrier(g->mpi); /* every tile is in place */
+    }
+    if (g->rank == 0 && pg_planet_save_index(planet, gen_path_for, &pc, &err))
+        return gen_fail_all(cli, g, &err);
+    return 0;
+}
+
+/* Under a launcher with P > 1 ranks: refuse a build without MPI, start MPI, refuse
+ * more ranks than tiles and the single-file layout. Returns -1 to go on, else the
+ * exit code (MPI already finalized). */
+int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g) {
+    int lrank = 0, P = pg_mpi_launcher_size(&lrank);
+    memset(g, 0, sizeof *g);
+    g->size = 1;
+    g->tiled = a->output_layout && !strcmp(a->output_layout, "tiled");
+    if (P <= 1) return -1;
+    if (!pg_mpi_built()) {
+        if (lrank != 0) return 2;
+        return pg_cli_usage_error(cli,
+                                  "launched by mpirun with %d ranks, but this planetgen was built "
+                                  "without MPI (rebuild with cmake -DPG_MPI=ON, or run it "
+                                  "without mpirun)",
+                                  P);
+    }
+    pg_error err = {0};
+    if (pg_mpi_init(&g->mpi, &err)) return pg_cli_fail(cli, &err);
+    g->rank = pg_mpi_rank(g->mpi);
+    g->size = pg_mpi_size(g->mpi);
+    g->tiled = true;
+    int rc = -1;
+    long ntiles = 6 * a->tiles * a->tiles;
+    if (g->size > ntiles)
+        rc = g->rank ? 2
+                     : pg_cli_usage_error(cli,
+                                          "mpirun -np %d: more ranks than the %ld tiles of the "
+                                          "planet (6 x --tiles %ld^2); use at most %ld ranks or "
+                                          "more --tiles",
+                                          g->size, ntiles, a->tiles, ntiles);
+    else if (a->output_layout && strcmp(a->output_layout, "tiled"))
+        rc = g->rank ? 2
+                     : pg_cli_usage_error(cli,
+                                          "--output-layout %s: a distributed run writes each "
+                                          "rank's tiles (--output-layout tiled); the planet "
+                                          "layout needs the whole planet in one process",
+                                          a->output_layout);
+    if (rc >= 0) {
+        pg_mpi_finalize(g->mpi);
+        g->mpi = NULL;
+        return rc;
+    }
+    if (g->rank != 0) { /* rank 0 speaks for the job */
+        cli->quiet = true;
+        pg_json_free(pg_cli_report(cli));
+        cli->report = NULL;
+    }
+    return -1;
+}

@@ -1,0 +1,128 @@
+/* pg_planet_synth_deliver.c - delivery of the synthesized planet: the finest level
+ * magnified to the delivered resolution (a cubic B-spline when the planet's faces are
+ * finer than the exemplar's, the texel as it is otherwise), the delivered heights for
+ * the final pit pass, and the albedo, heights and exemplar coordinates of the planet
+ * (docs/generate.md, "Method": "Exemplar scale").
+ *
+ * Each delivered texel reads at most the 4 x 4 synthesized texels around it, across face
+ * seams through the level's border; distributed, a process delivers its own tiles after
+ * an exchange of width 2 (docs/mpi.md, "What is distributed, and how"). */
+#include "pg_planet_synth_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Delivery at Nout = m N texels per face edge. One synthesized texel stands for one
+ * exemplar texel of ground, so when the planet's faces are finer than the exemplar's
+ * (m > 1) the synthesized albedo and height are magnified with a cubic B-spline (texel
+ * centres aligned; the 4 x 4 taps read the level's one-texel border across face seams,
+ * clamped to it). Why a B-spline and not an interpolating kernel: every tile edge of
+ * the delivered planet is a synthesized-texel boundary, and an interpolating kernel
+ * makes the delivered steps across such a boundary systematically larger than those
+ * inside a synthesized texel, so tile edges would look like seams (default planet:
+ * albedo seam ratio 1.155 bilinear, 1.19 Catmull-Rom, 1.04 B-spline; the B-spline's
+ * smoothing is below the exemplar's own resolution). With m = 1 the synthesized texel
+ * is delivered as it is. */
+typedef struct texel_out {
+    float rgb[3], h;
+} texel_out;
+
+/* Cubic B-spline weights of the taps n - 1 .. n + 2 around t = s - n, 0 <= t < 1. */
+static void bspline3_weights(double t, double w[4]) {
+    double u = 1 - t;
+    w[0] = u * u * u / 6;
+    w[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
+    w[2] = (3 * u * u * u - 6 * u * u + 4) / 6;
+    w[3] = t * t * t / 6;
+}
+
+static void magnified_texel(const pg_ps_ctx *c, const pg_ps_level *L, int f, int64_t X, int64_t Y,
+                            texel_out *o) {
+    const int m = c->m, r = L->r;
+    if (m == 1) {
+        size_t i = pg_ps_at(L, f, (int)X, (int)Y), t = pg_synth_texel(c->ex, L->S[i]);
+        for (int j = 0; j < 3; j++)
+            o->rgb[j] = c->ex->albedo[t * 3 + j] * (1.0f / 255.0f);
+        o->h = c->ex->height[t] + (L->V ? L->V[i] : 0.0f);
+        return;
+    }
+    double sx = (X + 0.5) / m - 0.5, sy = (Y + 0.5) / m - 0.5;
+    int x0 = (int)floor(sx), y0 = (int)floor(sy);
+    double wx[4], wy[4], acc[4] = {0};
+    bspline3_weights(sx - x0, wx);
+    bspline3_weights(sy - y0, wy);
+    for (int ky = 0; ky < 4; ky++)
+        for (int kx = 0; kx < 4; kx++) {
+            double w = wx[kx] * wy[ky];
+            int x = x0 - 1 + kx, y = y0 - 1 + ky;
+            x = x < -1 ? -1 : (x > r ? r : x);
+            y = y < -1 ? -1 : (y > r ? r : y);
+            size_t i = pg_ps_at(L, f, x, y);
+            size_t t = pg_synth_texel(c->ex, L->S[i]);
+            for (int j = 0; j < 3; j++)
+                acc[j] += w * c->ex->albedo[t * 3 + j];
+            acc[3] += w * (c->ex->height[t] + (L->V ? L->V[i] : 0.0f));
+        }
+    for (int j = 0; j < 3; j++)
+        o->rgb[j] = (float)(acc[j] * (1.0 / 255.0));
+    o->h = (float)acc[3];
+}
+
+/* Is delivered texel (x, y) of face f in one of this process's tiles? */
+static bool owned_texel(const pg_ps_ctx *c, int f, int64_t x, int64_t y) {
+    const int64_t ts = c->Nout / c->T;
+    return pg_ps_owns(c, f, (int)(x / ts), (int)(y / ts));
+}
+
+/* Row `row` (face row / n, texel row row % n) of the delivered planet: heights into h,
+ * albedo into rgb, when not NULL. */
+/* With all false, only the texels of this process's tiles (all of them without dist). */
+static void deliver_row(const pg_ps_ctx *c, const pg_ps_level *L, int64_t row, float *h, float *rgb,
+                        bool all) {
+    const int64_t n = c->Nout;
+    const int f = (int)(row / n);
+    for (int64_t x = 0; x < n; x++) {
+        if (!all && c->p->dist && !owned_texel(c, f, x, row % n)) continue;
+        texel_out o;
+        magnified_texel(c, L, f, x, row % n, &o);
+        if (h) h[x] = o.h;
+        for (int k = 0; rgb && k < 3; k++)
+            rgb[x * 3 + k] = o.rgb[k];
+    }
+}
+
+void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bool all) {
+#pragma omp parallel for schedule(static)
+    for (int64_t row = 0; row < 6 * c->Nout; row++)
+        deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL, all);
+}
+
+/* Albedo (magnified), the heights H, and per delivered texel the exemplar coordinate of
+ * its synthesized texel (coords, types). */
+void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
+                  uint32_t *coords) {
+    const int64_t n = c->Nout;
+    const int r = L->r, m = c->m;
+    uint64_t ok = 0;
+#pragma omp parallel for schedule(static) reduction(+ : ok)
+    for (int64_t row = 0; row < 6 * n; row++) {
+        int f = (int)(row / n);
+        int64_t y = row % n;
+        deliver_row(c, L, row, NULL, out->albedo[f] + (size_t)y * n * 3, false);
+        if (!c->p->dist)
+            memcpy(out->height[f] + (size_t)y * n, H + (size_t)row * n, (size_t)n * sizeof *H);
+        for (int64_t x = 0; x < n; x++) {
+            if (c->p->dist) {
+                if (!owned_texel(c, f, x, y)) continue;
+                out->height[f][(size_t)y * n + x] = H[(size_t)row * n + x];
+            }
+            uint32_t q = L->S[pg_ps_at(L, f, (int)(x / m), (int)(y / m))];
+            if (coords) coords[(size_t)row * n + x] = q;
+            if (c->use_types)
+                ok += (pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
+                       c->etype[pg_synth_texel(c->ex, q)]) &
+                      1;
+        }
+    }
+    c->info->allowed_fraction = c->use_types ? (double)ok / (6.0 * n * n) : 1.0;
+}

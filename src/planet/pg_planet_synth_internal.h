@@ -1,0 +1,140 @@
+/* pg_planet_synth_internal.h - what the planet synthesis files (src/planet/pg_planet_synth*.c)
+ * share: the level storage, the run's context, the distribution hooks' ownership tests,
+ * and the functions one file calls in another. Not a public API; the prefix pg_ps_ marks
+ * these internals.
+ *
+ * The files: pg_planet_synth.c (the driver: context, pyramid, delivery order),
+ * pg_planet_synth_params.c (defaults, sizing, checks), pg_planet_synth_level.c (level
+ * storage, face borders, the per-tile level operations), pg_planet_synth_types.c (type
+ * constraints), pg_planet_synth_guide.c (guide), pg_planet_synth_pits.c (Gain-pit in the
+ * pyramid, the final pass and the depression counts), pg_planet_synth_deliver.c
+ * (magnification and the delivered planet). */
+#ifndef PG_PLANET_SYNTH_INTERNAL_H
+#define PG_PLANET_SYNTH_INTERNAL_H
+
+#include "planetgen/pg_planet_synth.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* One level of the pyramid: the six faces as (r + 2)^2 arrays of exemplar coordinates S
+ * and offsets V, with a one-texel border around each face. */
+typedef struct pg_ps_level {
+    int r;        /* texels per face edge */
+    ptrdiff_t st; /* row stride r + 2 */
+    size_t fsz;   /* (r + 2)^2 */
+    uint32_t *S;  /* 6 * fsz */
+    float *V;
+} pg_ps_level;
+
+/* The face borders: for each border texel its source (a texel of a neighbouring face)
+ * and the orientation from this face's frame into the source's. */
+typedef struct pg_ps_border {
+    size_t n, *dst, *src;
+    uint8_t *orient; /* 6 * fsz, zero inside */
+} pg_ps_border;
+
+/* The run's context: parameters resolved once, buffers that live for the whole run. */
+typedef struct pg_ps_ctx {
+    const pg_synth_exemplar *ex;
+    const pg_planet_synth_params *p;
+    int T, S, s_top;
+    int64_t N;    /* synthesized texels per face edge: Nout / m */
+    int64_t Nout; /* delivered texels per face edge: tiles * tile_size */
+    int m;        /* magnification from synthesized to delivered texels (a power of two) */
+    int keep;     /* layout earth: levels kept without jitter (resolved from auto) */
+    pg_ps_border bm;
+    /* types */
+    bool use_types;
+    uint8_t *etype; /* exemplar texel types */
+    uint32_t *valid[PG_TYPE_COUNT];
+    size_t nvalid[PG_TYPE_COUNT];
+    uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
+    /* guide */
+    float *guide; /* per level texel, metres */
+    pg_planet_synth_info *info;
+    double work_done, work_total;
+} pg_ps_ctx;
+
+static inline int pg_ps_top_scale(const pg_synth_exemplar *ex) {
+    return ex->levels - 1;
+}
+
+/* Index of texel (x, y) of face f; x, y in -1..r (the border included). */
+static inline size_t pg_ps_at(const pg_ps_level *L, int f, int x, int y) {
+    return (size_t)f * L->fsz + (size_t)(y + 1) * (size_t)L->st + (size_t)(x + 1);
+}
+
+/* ------------- distribution hooks (docs/mpi.md, "What is distributed, and how") ------------- */
+
+/* Without p->dist this process owns every tile and exchanges nothing, so the
+ * single-process path is unchanged. */
+static inline bool pg_ps_owns(const pg_ps_ctx *c, int f, int tx, int ty) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    return !d || d->owns(d->user, f, tx, ty);
+}
+
+/* Distributed pit removal for a level of r texels per face edge: the hook, when the
+ * tiles divide the level (coarser levels are gathered: at most T^2 texels a face). */
+static inline bool pg_ps_dist_pits(const pg_ps_ctx *c, int r) {
+    return c->p->dist && c->p->dist->pits && r % c->T == 0;
+}
+
+/* The land/ocean agreement summed over the processes (each counts its tiles). */
+static inline bool pg_ps_dist_sum(const pg_ps_ctx *c, int r) {
+    return c->p->dist && c->p->dist->sum && r % c->T == 0;
+}
+
+/* Is texel (x, y) of face f, at a level of r texels per face edge, in an owned tile? */
+static inline bool pg_ps_owned_at(const pg_ps_ctx *c, int r, int f, int x, int y) {
+    const int ts = r / c->T;
+    return pg_ps_owns(c, f, x / ts, y / ts);
+}
+
+/* The type mask at texel (x, y) of face f of a level of r texels per face edge. */
+static inline uint8_t pg_ps_mask_at(const pg_ps_ctx *c, int r, int f, long x, long y) {
+    if (!c->mask) return c->p->type_mask;
+    return c->mask[((size_t)f * r + (size_t)y) * r + (size_t)x];
+}
+
+/* --------------------------- pg_planet_synth_level.c --------------------------- */
+
+pg_status pg_ps_level_alloc(pg_ps_level *L, int r);
+void pg_ps_level_free(pg_ps_level *L);
+pg_status pg_ps_border_build(const pg_ps_level *L, int tiles, int ts, pg_ps_border *b,
+                             uint8_t *orient, pg_error *err);
+void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L);
+pg_status pg_ps_exchange(const pg_ps_ctx *c, int scale, const pg_ps_level *L, int width,
+                         pg_error *err);
+void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L);
+void pg_ps_jitter_level(const pg_ps_ctx *c, int scale, pg_ps_level *L);
+void pg_ps_upsample_level(const pg_ps_ctx *c, int s, const pg_ps_level *parent, pg_ps_level *child);
+pg_status pg_ps_correct_subpass_all(pg_ps_ctx *c, int scale, int parity, pg_ps_level *L,
+                                    pg_error *err);
+void pg_ps_land_agreement(pg_ps_ctx *c, int scale, const pg_ps_level *L);
+
+/* --------------------------- pg_planet_synth_types.c --------------------------- */
+
+pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err);
+pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err);
+void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v);
+
+/* --------------------------- pg_planet_synth_guide.c --------------------------- */
+
+pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err);
+void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc);
+
+/* --------------------------- pg_planet_synth_pits.c ---------------------------- */
+
+pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err);
+bool pg_ps_dist_final(const pg_ps_ctx *c);
+pg_status pg_ps_final_pits(pg_ps_ctx *c, float *H, bool whole, double *closed, pg_error *err);
+
+/* -------------------------- pg_planet_synth_deliver.c -------------------------- */
+
+void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bool all);
+void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
+                  uint32_t *coords);
+
+#endif

@@ -1,0 +1,309 @@
+/* pg_planet_synth_level.c - one level of the planet synthesis and the operations on it:
+ * the level storage (six faces with a one-texel border), the face borders refreshed
+ * across the seams through the integer seam maps of pg_cube.h (EarthGen's adjacency
+ * map, made exact), the coarsest level's initialisation and the land/ocean agreement of
+ * layout earth, upsampling and jitter, and the correction sub-pass over all tiles with
+ * the polar-ring split (docs/generate.md, "Method": "Level-synchronous", "Quarter-turn
+ * seams", "Pyramid", "Layout earth").
+ *
+ * Every operation works per owned tile when the distribution hooks are set (docs/mpi.md,
+ * "What is distributed, and how"): a tile's texels depend only on values the hooks'
+ * exchange provides, so every process computes the same bits as a single one. */
+#include "pg_planet_synth_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------- level storage ---------------------------------- */
+
+pg_status pg_ps_level_alloc(pg_ps_level *L, int r) {
+    L->r = r;
+    L->st = r + 2;
+    L->fsz = (size_t)(r + 2) * (r + 2);
+    L->S = malloc(6 * L->fsz * sizeof *L->S);
+    L->V = malloc(6 * L->fsz * sizeof *L->V);
+    return L->S && L->V ? PG_OK : PG_ERR_NOMEM;
+}
+
+void pg_ps_level_free(pg_ps_level *L) {
+    free(L->S);
+    free(L->V);
+    L->S = NULL;
+    L->V = NULL;
+}
+
+static pg_synth_view face_view(const pg_ps_level *L, int f) {
+    size_t o = pg_ps_at(L, f, 0, 0);
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, L->r, L->r, f, 0, 0};
+    return v;
+}
+
+static pg_synth_view tile_view(const pg_ps_level *L, int f, int x0, int y0, int w, int h) {
+    size_t o = pg_ps_at(L, f, x0, y0);
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, w, h, f, x0, y0};
+    return v;
+}
+
+/* ------------------------------ face borders, exchange ------------------------------ */
+
+pg_status pg_ps_border_build(const pg_ps_level *L, int tiles, int ts, pg_ps_border *b,
+                             uint8_t *orient, pg_error *err) {
+    pg_cube_grid g;
+    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, tiles, ts, err);
+    if (st) return st;
+    const int r = L->r;
+    b->n = 0;
+    b->orient = orient;
+    memset(orient, 0, 6 * L->fsz);
+    for (int f = 0; f < 6; f++)
+        for (int y = -1; y <= r; y++)
+            for (int x = -1; x <= r; x++) {
+                if (x >= 0 && x < r && y >= 0 && y < r) continue;
+                int rot;
+                int64_t id = pg_cube_wrap(&g, f, x, y, &rot);
+                int64_t per = (int64_t)r * r;
+                int sf = (int)(id / per), sy = (int)(id % per / r), sx = (int)(id % r);
+                b->dst[b->n] = pg_ps_at(L, f, x, y);
+                b->src[b->n++] = pg_ps_at(L, sf, sx, sy);
+                orient[pg_ps_at(L, f, x, y)] = (uint8_t)((4 - rot) & 3);
+            }
+    return PG_OK;
+}
+
+void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L) {
+    for (size_t i = 0; i < b->n; i++) {
+        L->S[b->dst[i]] = L->S[b->src[i]];
+        L->V[b->dst[i]] = L->V[b->src[i]];
+    }
+}
+
+pg_status pg_ps_exchange(const pg_ps_ctx *c, int scale, const pg_ps_level *L, int width,
+                         pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (!d) return PG_OK;
+    pg_planet_level pl = {scale, L->r, c->S >> scale, c->T, (size_t)L->st, L->fsz, L->S, L->V};
+    return d->exchange(d->user, &pl, width, err);
+}
+
+/* -------------------------------- the coarsest level -------------------------------- */
+
+static uint32_t exemplar_at_direction(const pg_synth_exemplar *ex, int r, int f, int x, int y) {
+    const int E = ex->face_size;
+    int u = (int)(((int64_t)2 * x + 1) * E / (2 * r)),
+        v = (int)(((int64_t)2 * y + 1) * E / (2 * r));
+    return pg_synth_pack(f, u, v);
+}
+
+/* Coarsest level: the exemplar at the same direction (layout earth), else hashed
+ * random texels; with a guide, the best of 16 hashed draws by level height. */
+void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L) {
+    const pg_synth_exemplar *ex = c->ex;
+    const int r = L->r, s = c->s_top, E = ex->face_size;
+    const uint64_t seed = c->p->synth.seed;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            uint32_t q;
+            if (c->p->layout == PG_LAYOUT_EARTH) {
+                q = exemplar_at_direction(ex, r, f, x, y);
+            } else {
+                int ndraw = c->guide ? 16 : 1;
+                float g = c->guide ? c->guide[((size_t)f * r + y) * r + x] : 0, best = INFINITY;
+                q = 0;
+                for (int k = 0; k < ndraw; k++) {
+                    uint32_t a = pg_synth_hash(seed, 99, f, x, y, 7 + 2 * k);
+                    uint32_t b = pg_synth_hash(seed, 99, f, x, y, 8 + 2 * k);
+                    uint32_t cand = pg_synth_pack((int)(a % 6u), (int)((a >> 3) % (uint32_t)E),
+                                                  (int)(b % (uint32_t)E));
+                    float d = fabsf(pg_synth_level_height(ex, s, cand) - g);
+                    if (k == 0 || d < best) best = d, q = cand;
+                }
+            }
+            L->S[pg_ps_at(L, f, x, y)] = q;
+            L->V[pg_ps_at(L, f, x, y)] = 0;
+        }
+    }
+}
+
+void pg_ps_land_agreement(pg_ps_ctx *c, int scale, const pg_ps_level *L) {
+    const int r = L->r;
+    uint64_t agree = 0;
+#pragma omp parallel for schedule(static) reduction(+ : agree)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            if (pg_ps_dist_sum(c, r) && !pg_ps_owned_at(c, r, f, x, y)) continue;
+            size_t i = pg_ps_at(L, f, x, y);
+            float h = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
+            float he =
+                pg_synth_level_height(c->ex, scale, exemplar_at_direction(c->ex, r, f, x, y));
+            agree += (h > c->ex->sea_level) == (he > c->ex->sea_level);
+        }
+    }
+    double total = (double)agree;
+    if (pg_ps_dist_sum(c, r)) total = c->p->dist->sum(c->p->dist->user, total);
+    c->info->land_agreement = total / (6.0 * r * r);
+}
+
+/* ------------------------------- upsampling and jitter ------------------------------- */
+
+static double jitter_for(const pg_ps_ctx *c, int scale) {
+    if (c->p->layout == PG_LAYOUT_EARTH && scale > c->s_top - c->keep) return 0;
+    return pg_synth_jitter_for(&c->p->synth, scale);
+}
+
+void pg_ps_jitter_level(const pg_ps_ctx *c, int scale, pg_ps_level *L) {
+    double r = jitter_for(c, scale);
+    const int ts = c->S >> scale;
+    for (int f = 0; f < 6; f++) {
+        if (!c->p->dist) {
+            pg_synth_view v = face_view(L, f);
+            pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+            continue;
+        }
+        for (int t = 0; t < c->T * c->T; t++) /* the jitter hashes global texel ids */
+            if (pg_ps_owns(c, f, t % c->T, t / c->T)) {
+                pg_synth_view v = tile_view(L, f, t % c->T * ts, t / c->T * ts, ts, ts);
+                pg_synth_jitter(c->ex, scale, r, c->p->synth.seed, &v);
+            }
+    }
+}
+
+/* Upsample the parent level into the child (per owned tile with dist: a child texel
+ * reads only its parent texel, and tiles nest across levels). */
+void pg_ps_upsample_level(const pg_ps_ctx *c, int s, const pg_ps_level *parent,
+                          pg_ps_level *child) {
+    const int pts = c->S >> (s + 1);
+    for (int f = 0; f < 6; f++) {
+        if (!c->p->dist) {
+            pg_synth_view pv = face_view(parent, f), cv = face_view(child, f);
+            pg_synth_upsample(c->ex, s, &pv, &cv);
+            continue;
+        }
+        for (int t = 0; t < c->T * c->T; t++)
+            if (pg_ps_owns(c, f, t % c->T, t / c->T)) {
+                int x = t % c->T * pts, y = t / c->T * pts;
+                pg_synth_view pv = tile_view(parent, f, x, y, pts, pts),
+                              cv = tile_view(child, f, 2 * x, 2 * y, 2 * pts, 2 * pts);
+                pg_synth_upsample(c->ex, s, &pv, &cv);
+            }
+    }
+}
+
+/* ------------------------------------ correction ------------------------------------ */
+
+/* TEST ONLY: correct one tile in a private copy whose halo continues its own edge
+ * (as the flat driver does), i.e. without its neighbours. */
+static void correct_tile_alone(const pg_ps_ctx *c, int scale, int parity, const pg_synth_view *v) {
+    const int w = v->w, hgt = v->h, st = w + 2, h = 1 << scale;
+    uint32_t *S = malloc(sizeof *S * (size_t)st * (hgt + 2));
+    float *V = malloc(sizeof *V * (size_t)st * (hgt + 2));
+    if (!S || !V) {
+        free(S), free(V);
+        return;
+    }
+    for (int y = -1; y <= hgt; y++)
+        for (int x = -1; x <= w; x++) {
+            int cx = x < 0 ? 0 : (x >= w ? w - 1 : x), cy = y < 0 ? 0 : (y >= hgt ? hgt - 1 : y);
+            ptrdiff_t src = (ptrdiff_t)cy * v->stride + cx, dst = (ptrdiff_t)(y + 1) * st + x + 1;
+            S[dst] = pg_synth_offset(c->ex, v->S[src], h * (x - cx), h * (y - cy));
+            V[dst] = v->V[src];
+        }
+    pg_synth_view t = {S + st + 1, V + st + 1, NULL, st, w, hgt, v->face, v->gx, v->gy};
+    pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, &t);
+    for (int y = 0; y < hgt; y++)
+        for (int x = 0; x < w; x++) {
+            v->S[(ptrdiff_t)y * v->stride + x] = t.S[(ptrdiff_t)y * st + x];
+            v->V[(ptrdiff_t)y * v->stride + x] = t.V[(ptrdiff_t)y * st + x];
+        }
+    free(S);
+    free(V);
+}
+
+static bool polar(int f) {
+    return f == PG_CUBE_FACE_PZ || f == PG_CUBE_FACE_NZ;
+}
+
+static void correct_view(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v) {
+    if (v->w <= 0 || v->h <= 0) return;
+    if (c->p->independent_tiles)
+        correct_tile_alone(c, scale, parity, v);
+    else
+        pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, v);
+    if (c->use_types) pg_ps_types_fixup(c, scale, parity, v);
+}
+
+/* The rectangle [x0, x1) x [y0, y1) of face f as a view. */
+static pg_synth_view rect_view(const pg_ps_ctx *c, const pg_ps_level *L, int f, int x0, int y0,
+                               int x1, int y1) {
+    size_t o = pg_ps_at(L, f, x0, y0);
+    pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st, x1 - x0, y1 - y0, f, x0, y0};
+    return v;
+}
+
+/* The part of the rectangle [x0, x1) x [y0, y1) of polar face f that lies in this
+ * process's tiles (all of it without dist). Sub-passes are order-independent, so
+ * correcting a strip piecewise gives the same texels. */
+static void correct_rect_owned(const pg_ps_ctx *c, int scale, int parity, const pg_ps_level *L,
+                               int f, int x0, int y0, int x1, int y1) {
+    const int ts = c->S >> scale;
+    if (!c->p->dist) {
+        pg_synth_view v = rect_view(c, L, f, x0, y0, x1, y1);
+        correct_view(c, scale, parity, &v);
+        return;
+    }
+    for (int ty = y0 / ts; ty * ts < y1; ty++)
+        for (int tx = x0 / ts; tx * ts < x1; tx++) {
+            if (!pg_ps_owns(c, f, tx, ty)) continue;
+            int ax = tx * ts > x0 ? tx * ts : x0, ay = ty * ts > y0 ? ty * ts : y0;
+            int bx = (tx + 1) * ts < x1 ? (tx + 1) * ts : x1,
+                by = (ty + 1) * ts < y1 ? (ty + 1) * ts : y1;
+            pg_synth_view v = rect_view(c, L, f, ax, ay, bx, by);
+            correct_view(c, scale, parity, &v);
+        }
+}
+
+/* One sub-pass over the planet, in two steps. Across a seam with a quarter turn (the
+ * 8 seams of the polar faces) the 2 x 2 parity classes of the two faces do not
+ * interleave: half the pairs straddling such a seam are in the same class, and if both
+ * sides were corrected at once, each from the other's old value, they could never
+ * become coherent. So step 1 corrects every tile except the outermost ring of the
+ * polar faces, and step 2, after refreshing the borders, corrects that ring against
+ * the new values on the other side. Both steps are order-independent, and the split
+ * is fixed by the faces, not the tiles. */
+pg_status pg_ps_correct_subpass_all(pg_ps_ctx *c, int scale, int parity, pg_ps_level *L,
+                                    pg_error *err) {
+    const int ts = c->S >> scale, T = c->T, r = L->r;
+    const int ntiles = 6 * T * T;
+    const bool split = !c->p->independent_tiles && r > 2;
+    pg_status st = pg_ps_exchange(c, scale, L, 1, err);
+    if (st) return st;
+    pg_ps_border_refresh(&c->bm, L);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int t = 0; t < ntiles; t++) {
+        int f = t / (T * T), tx = t % T, ty = t / T % T;
+        if (!pg_ps_owns(c, f, tx, ty)) continue;
+        int x0 = tx * ts, y0 = ty * ts, x1 = x0 + ts, y1 = y0 + ts;
+        if (split && polar(f)) {
+            x0 = x0 < 1 ? 1 : x0, y0 = y0 < 1 ? 1 : y0;
+            x1 = x1 > r - 1 ? r - 1 : x1, y1 = y1 > r - 1 ? r - 1 : y1;
+        }
+        pg_synth_view v = rect_view(c, L, f, x0, y0, x1, y1);
+        correct_view(c, scale, parity, &v);
+    }
+    if (!split) return PG_OK;
+    if ((st = pg_ps_exchange(c, scale, L, 1, err))) return st;
+    pg_ps_border_refresh(&c->bm, L);
+    /* the rings of the two polar faces: 4 strips each (bottom, top, left, right) */
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < 8; k++) {
+        int f = k < 4 ? PG_CUBE_FACE_PZ : PG_CUBE_FACE_NZ, side = k & 3;
+        if (side == 0) correct_rect_owned(c, scale, parity, L, f, 0, 0, r, 1);
+        if (side == 1) correct_rect_owned(c, scale, parity, L, f, 0, r - 1, r, r);
+        if (side == 2) correct_rect_owned(c, scale, parity, L, f, 0, 1, 1, r - 1);
+        if (side == 3) correct_rect_owned(c, scale, parity, L, f, r - 1, 1, r, r - 1);
+    }
+    return PG_OK;
+}

@@ -1,0 +1,173 @@
+/* pg_planet_synth_pits.c - pit removal in the planet synthesis: Gain-pit (Scott 2020
+ * §4.2.1) after each correction pass on the whole cube level (R = E_s(S) + V made
+ * pit-free, V += R' - R), preceded by the guide blend, and the final pass on the
+ * delivered heights with the depression counts before and after it (docs/generate.md,
+ * "Method": "Gain-pit").
+ *
+ * Every pass uses pit removal whose result depends on no flood order (docs/mpi.md, "Pit
+ * removal across ranks"), so a distributed run computes it on each process's tiles
+ * through the pits hooks and gets the single process's bits; without the hooks every
+ * process runs the same deterministic pass on the gathered level. */
+#include "pg_planet_synth_internal.h"
+#include "planetgen/pg_drainage.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. */
+/* With owned_only, the texels of other processes' tiles (stale, perhaps never
+ * written) get R = Vc = 0; the pits hook exchanges what it reads of them. */
+static void reconstruct(const pg_ps_ctx *c, int scale, const pg_ps_level *L, float *R, float *Vc,
+                        bool owned_only) {
+    const int r = L->r;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            size_t i = pg_ps_at(L, f, x, y), j = ((size_t)f * r + y) * r + x;
+            if (owned_only && !pg_ps_owned_at(c, r, f, x, y)) {
+                R[j] = 0;
+                if (Vc) Vc[j] = 0;
+                continue;
+            }
+            R[j] = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
+            if (Vc) Vc[j] = L->V[i];
+        }
+    }
+}
+
+static void store_offsets(const float *Vc, pg_ps_level *L) {
+    const int r = L->r;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++)
+            L->V[pg_ps_at(L, f, x, y)] = Vc[((size_t)f * r + y) * r + x];
+    }
+}
+
+static pg_pits_opts pits_opts(const pg_ps_ctx *c, pg_pits_method m) {
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.method = m;
+    o.epsilon = true;
+    o.descent = true; /* no flood order: MPI ranks reproduce it (docs/mpi.md) */
+    o.has_sea_level = true;
+    o.sea_level = c->ex->sea_level;
+    return o;
+}
+
+/* Gain-pit on the owned tiles through the hook: R' = remove(R) there, Vc += R' - R. */
+static pg_status gainpit_dist(pg_ps_ctx *c, int r, const float *R, float *Vc, const pg_pits_opts *o,
+                              pg_error *err) {
+    size_t n = (size_t)6 * r * r;
+    float *R2 = malloc(n * sizeof *R2);
+    if (!R2) return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+    memcpy(R2, R, n * sizeof *R2);
+    const pg_planet_synth_dist *d = c->p->dist;
+    pg_status st = d->pits(d->user, (uint32_t)r, c->T, R2, o, err);
+    uint64_t changed = 0;
+    for (int f = 0; !st && f < 6; f++)
+        for (int y = 0; y < r; y++)
+            for (int x = 0; x < r; x++) {
+                size_t i = ((size_t)f * r + y) * r + x;
+                if (R2[i] == R[i] || !pg_ps_owned_at(c, r, f, x, y)) continue;
+                Vc[i] += R2[i] - R[i];
+                changed++;
+            }
+    c->info->pit_cells_changed += changed;
+    free(R2);
+    return st;
+}
+
+/* After a correction pass: the guide blend R <- w G + (1 - w) R (as V += w (G - R)),
+ * then Gain-pit (R' pit-free, V += R' - R). Distributed, Gain-pit runs through the
+ * pits hook on the owned tiles; without the hook (or at levels too coarse for the
+ * tiles) every process gathers the level and runs it whole (deterministic, so all
+ * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
+ * are refreshed by the next exchange before anything reads them. */
+pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
+    bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
+    if (!pits && !c->guide) return PG_OK;
+    const int r = L->r;
+    bool gather = pits && !pg_ps_dist_pits(c, r);
+    pg_status xs = gather ? pg_ps_exchange(c, scale, L, -1, err) : PG_OK;
+    if (xs) return xs;
+    size_t n = (size_t)6 * r * r;
+    float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
+    if (!R || !Vc) {
+        free(R), free(Vc);
+        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+    }
+    reconstruct(c, scale, L, R, Vc, c->p->dist && !gather);
+    pg_status st = PG_OK;
+    if (c->guide) pg_ps_guide_blend(c, scale, n, R, Vc);
+    if (pits) {
+        double t0 = pg_synth_now();
+        pg_pits_topo topo;
+        pg_pits_opts o = pits_opts(c, c->p->pit_method);
+        pg_pits_result res;
+        if (pg_ps_dist_pits(c, r)) {
+            st = gainpit_dist(c, r, R, Vc, &o, err);
+        } else {
+            st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
+            if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
+            if (!st) c->info->pit_cells_changed += res.raised + res.lowered;
+        }
+        c->info->pits_seconds += pg_synth_now() - t0;
+    }
+    if (!st) store_offsets(Vc, L);
+    free(R);
+    free(Vc);
+    return st;
+}
+
+/* The final removal and the counts: on the whole planet in this process, or through
+ * the hooks on this process's tiles (H valid there only) when there are hooks for
+ * both. */
+bool pg_ps_dist_final(const pg_ps_ctx *c) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    return pg_ps_dist_pits(c, (int)c->Nout) && (!c->p->pit_stats || d->stats);
+}
+
+static pg_status final_remove(const pg_ps_ctx *c, const pg_pits_topo *topo, float *H,
+                              const pg_pits_opts *o, pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (pg_ps_dist_final(c)) return d->pits(d->user, (uint32_t)c->Nout, c->T, H, o, err);
+    return pg_pits_remove(topo, H, o, NULL, err);
+}
+
+static pg_status final_stats(const pg_ps_ctx *c, const pg_pits_topo *topo, const float *H,
+                             const pg_pits_opts *o, const pg_pits_area *area, pg_pits_stats *out,
+                             pg_error *err) {
+    const pg_planet_synth_dist *d = c->p->dist;
+    if (pg_ps_dist_final(c))
+        return d->stats(d->user, (uint32_t)c->Nout, c->T, H, o, area, out, err);
+    return pg_pits_stats_compute(topo, H, o, area, out, err);
+}
+
+/* whole: H holds every texel, not only this process's tiles. closed receives the
+ * closed-land share of H before the final pass (pg_drainage.h), a whole-planet measure:
+ * taken with the depression counts (pit_stats) when H is whole, NaN otherwise. */
+pg_status pg_ps_final_pits(pg_ps_ctx *c, float *H, bool whole, double *closed, pg_error *err) {
+    const pg_planet_synth_params *p = c->p;
+    pg_pits_topo topo;
+    pg_status st = pg_pits_topo_cube(&topo, (uint32_t)c->Nout, err);
+    if (st) return st;
+    pg_pits_opts o = pits_opts(c, p->final_method);
+    pg_pits_area area = {0};
+    area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
+                    (6.0 * (double)c->Nout * (double)c->Nout);
+    double t0 = pg_synth_now();
+    if (p->pit_stats && whole)
+        st = pg_drainage_closed_land_share(H, c->Nout, PG_CUBE_DEFAULT_PROJECTION, NULL,
+                                           c->ex->sea_level, closed, err);
+    if (!st && p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->before, err);
+    double t1 = pg_synth_now();
+    if (!st && p->pits && p->final_pits) st = final_remove(c, &topo, H, &o, err);
+    double t2 = pg_synth_now();
+    if (!st && p->pit_stats) st = final_stats(c, &topo, H, &o, &area, &c->info->after, err);
+    c->info->final_pits_seconds = t2 - t1;
+    c->info->pit_stats_seconds = (t1 - t0) + (pg_synth_now() - t2);
+    return st;
+}

@@ -1,0 +1,147 @@
+/* pg_planet_synth_types.c - Gain, Merry & Marais 2015's type constraints in the planet
+ * synthesis: the exemplar's texels classified by type (pg_types.c), the allowed types of
+ * every level texel from the type map or the preset, and the fix-up after each
+ * correction sub-pass that replaces a texel of a disallowed type (docs/generate.md,
+ * "Method": "Types").
+ *
+ * The fix-up runs on the texels of the sub-pass's parity class in the same view and
+ * reads only its neighbours (of the other classes) and hashed draws, so it keeps the
+ * sub-pass's independence of tile size, order and thread count. */
+#include "pg_planet_synth_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
+    c->use_types = c->p->types || c->p->type_mask != PG_TYPES_ALL;
+    if (!c->use_types) return PG_OK;
+    const pg_synth_exemplar *ex = c->ex;
+    c->etype = pg_types_exemplar(ex);
+    if (!c->etype) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+    size_t ne = (size_t)ex->nfaces * ex->face_size * ex->face_size;
+    for (size_t i = 0; i < ne; i++)
+        c->nvalid[c->etype[i]]++;
+    for (int t = 0; t < PG_TYPE_COUNT; t++) {
+        c->valid[t] = malloc((c->nvalid[t] + 1) * sizeof(uint32_t));
+        if (!c->valid[t]) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+        c->nvalid[t] = 0;
+    }
+    const int E = ex->face_size;
+    for (size_t i = 0; i < ne; i++) {
+        int t = c->etype[i];
+        c->valid[t][c->nvalid[t]++] =
+            pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
+    }
+    /* every mask in use must leave valid texels */
+    uint8_t masks = 0;
+    for (int t = 0; t < PG_TYPE_COUNT; t++)
+        if (c->nvalid[t]) masks |= (uint8_t)(1u << t);
+    if (!(c->p->type_mask & masks))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "--preset: no exemplar texel has an allowed type");
+    if (c->p->types) {
+        const pg_types_map *m = c->p->types;
+        for (size_t i = 0; i < (size_t)m->width * m->height; i++)
+            if (!(m->mask[i] & masks)) {
+                char names[128] = "";
+                for (int t = 0; t < PG_TYPE_COUNT; t++)
+                    if ((m->mask[i] >> t) & 1) {
+                        strncat(names, names[0] ? ", " : "", sizeof names - strlen(names) - 1);
+                        strncat(names, pg_types_name(t), sizeof names - strlen(names) - 1);
+                    }
+                return pg_error_set(err, PG_ERR_BADINPUT,
+                                    "--types: the exemplar has no texel of type %s", names);
+            }
+    }
+    return PG_OK;
+}
+
+static double sphere_lat(const double d[3]) {
+    double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return asin(d[2] / n) * (180.0 / 3.14159265358979323846);
+}
+
+/* Nearest-pixel type mask of every texel of a level (type colours are discrete). */
+pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
+    if (!c->p->types) return PG_OK;
+    const pg_types_map *m = c->p->types;
+    pg_cube_grid g;
+    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, c->T, ts, err);
+    if (st) return st;
+#pragma omp parallel for schedule(static)
+    for (int64_t id = 0; id < (int64_t)6 * r * r; id++) {
+        double d[3];
+        pg_cube_texel_dir(&g, id, d);
+        double lat = sphere_lat(d), lon = atan2(d[1], d[0]) * (180.0 / 3.14159265358979323846);
+        int i = (int)floor((lon + 180.0) / 360.0 * m->width),
+            j = (int)floor((90.0 - lat) / 180.0 * m->height);
+        i = i < 0 ? 0 : (i >= m->width ? m->width - 1 : i);
+        j = j < 0 ? 0 : (j >= m->height ? m->height - 1 : j);
+        c->mask[id] = m->mask[(size_t)j * m->width + i];
+    }
+    return PG_OK;
+}
+
+static bool allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
+    return (m >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
+}
+
+/* A hashed draw among the exemplar texels whose type m allows. */
+static uint32_t draw_valid(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
+    size_t total = 0;
+    for (int t = 0; t < PG_TYPE_COUNT; t++)
+        if ((m >> t) & 1) total += c->nvalid[t];
+    if (!total) return 0;
+    size_t k = (size_t)h % total;
+    for (int t = 0; t < PG_TYPE_COUNT; t++) {
+        if (!((m >> t) & 1)) continue;
+        if (k < c->nvalid[t]) return c->valid[t][k];
+        k -= c->nvalid[t];
+    }
+    return 0;
+}
+
+/* Gain et al.'s type constraint, applied to the texels of one parity class of a view
+ * after their correction. A disallowed texel is replaced by the allowed candidate
+ * closest in level height to what it had (so the terrain keeps its shape): the
+ * coherent candidates S[p+e] - h e of its 8 neighbours first (a coherent one wins
+ * unless a draw is more than twice as close), then 8 hashed draws among the valid
+ * exemplar texels. */
+void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v) {
+    static const int nb[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
+                                 {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+    const int h = 1 << scale, r = (int)(c->N >> scale), px = parity & 1, py = parity >> 1;
+    const uint64_t seed = c->p->synth.seed;
+    for (int y = 0; y < v->h; y++) {
+        long gy = v->gy + y;
+        if ((int)(gy & 1) != py) continue;
+        for (int x = (int)((v->gx & 1) != px); x < v->w; x += 2) {
+            long gx = v->gx + x;
+            ptrdiff_t i = (ptrdiff_t)y * v->stride + x;
+            uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
+            if (allowed(c, m, v->S[i])) continue;
+            float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i], best = INFINITY;
+            uint32_t bq = 0;
+            float bv = 0;
+            for (int k = 0; k < 16; k++) {
+                uint32_t q;
+                float vq = 0, w = 1;
+                if (k < 8) {
+                    int ex = nb[k][0], ey = nb[k][1];
+                    ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
+                    q = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
+                    vq = v->V[j];
+                    if (!allowed(c, m, q)) continue;
+                } else {
+                    q = draw_valid(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
+                    w = 2;
+                }
+                float d = w * fabsf(pg_synth_level_height(c->ex, scale, q) + vq - want);
+                if (d < best) best = d, bq = q, bv = vq;
+            }
+            v->S[i] = bq;
+            v->V[i] = bv;
+        }
+    }
+}
