@@ -1,4 +1,4 @@
-/* test_generate.c - whole-planet synthesis (issue 5) on the real default exemplar:
+/* test_generate.c - whole-planet synthesis (docs/generate.md) on the real default exemplar:
  *
  *  - seams are invisible: over all tile edges and the 12 face seams, the mean |delta
  *    height| and |delta albedo| of texel pairs straddling a seam are <= 1.1 x the same

@@ -1,4 +1,4 @@
-/* test_generate_cli.c - `planetgen generate` end to end: each bad input of issue 5 exits
+/* test_generate_cli.c - `planetgen generate` end to end: each bad input of docs/generate.md exits
  * 2 with a one-line message naming the problem (and writes nothing), and a small planet
  * run writes the planet directory, the previews, the globe and a JSON report with the quality
  * figures (pits after the final pass: 0). */
