@@ -8,6 +8,7 @@
  * reads only its neighbours (of the other classes) and hashed draws, so it keeps the
  * sub-pass's independence of tile size, order and thread count. */
 #include "pg_planet_synth_internal.h"
+#include "pg_vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -58,8 +59,7 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
 }
 
 static double sphere_lat(const double d[3]) {
-    double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    return asin(d[2] / n) * (180.0 / 3.14159265358979323846);
+    return asin(d[2] / pg_vec3_length(d)) * (180.0 / 3.14159265358979323846);
 }
 
 /* Nearest-pixel type mask of every texel of a level (type colours are discrete). */
