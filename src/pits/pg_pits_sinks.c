@@ -1,5 +1,6 @@
 /* pg_pits_sinks.c - the common start of every flood: validating options, choosing the
- * sinks and seeding the priority queue, plus the queues' out-of-line growth.
+ * sinks and seeding the priority queue, plus the out-of-line growth of the queues and
+ * of every growing array of the pit algorithms (pits_grow).
  *
  * Sinks are the outlets water leaves the terrain through: cells at or below the sea
  * level, lake cells, no-data cells and (flat grids with open_edges) the border. A
@@ -24,15 +25,20 @@ void pits_heap_free(pits_heap *q) {
     q->n = q->cap = 0;
 }
 
+void *pits_grow(void *a, size_t *cap, size_t need, size_t elem, size_t first) {
+    if (need <= *cap) return a;
+    size_t c = *cap ? 2 * *cap : first;
+    while (c < need)
+        c *= 2;
+    void *g = realloc(a, c * elem);
+    if (g) *cap = c;
+    return g;
+}
+
 void pits_heap_grow(pits_heap *q) {
-    size_t cap = q->cap ? q->cap * 2 : 4096;
-    uint64_t *a = realloc(q->a, cap * sizeof *a);
-    if (!a) {
-        q->oom = 1;
-        return;
-    }
-    q->a = a;
-    q->cap = cap;
+    uint64_t *a = pits_grow(q->a, &q->cap, q->n + 1, sizeof *a, 4096);
+    q->oom |= !a;
+    if (a) q->a = a;
 }
 
 static void sift_down(uint64_t *a, size_t n, size_t i) {
@@ -72,14 +78,9 @@ void pits_fifo_grow(pits_fifo *f) {
         f->head = 0;
         return;
     }
-    size_t cap = f->cap ? f->cap * 2 : 4096;
-    uint32_t *a = realloc(f->a, cap * sizeof *a);
-    if (!a) {
-        f->oom = 1;
-        return;
-    }
-    f->a = a;
-    f->cap = cap;
+    uint32_t *a = pits_grow(f->a, &f->cap, f->tail + 1, sizeof *a, 4096);
+    f->oom |= !a;
+    if (a) f->a = a;
 }
 
 pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *err) {
