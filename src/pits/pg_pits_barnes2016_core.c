@@ -3,8 +3,8 @@
  *
  * Source: R. Barnes (2016), "Parallel Priority-Flood depression filling for trillion
  * cell digital elevation models on desktops or clusters", Computers & Geosciences
- * 96:56-68 (arXiv:1608.04431, "Flexibly distributed Priority-Flood depression filling
- * for teracell DEMs").
+ * 96:56-68; its distributed form: the same author's "Flexibly distributed
+ * Priority-Flood depression filling for teracell DEMs" (arXiv:1608.04431).
  *
  * Step 1 (pits_b16_flood_tile): a Priority-Flood (Barnes et al. 2014, improved: cells
  * in pits go through a FIFO) that sees only the tile, seeded with the tile's sinks that
