@@ -1,6 +1,12 @@
-/* pg_mpi.c - MPI-distributed planet synthesis (issue 10): tile ownership, the
- * tile-edge exchange behind pg_planet_synth_dist, and thin collectives for the CLI.
- * The header (pg_mpi.h) gives the idea; docs/mpi.md the design and its limits.
+/* pg_mpi.c - MPI-distributed planet synthesis: starting and stopping MPI, the
+ * tile-edge exchange behind pg_planet_synth_dist and the synthesis's hooks. The header
+ * (pg_mpi.h) gives the idea; docs/mpi.md ("What is distributed, and how") the design
+ * and its limits.
+ *
+ * Layering (pg_mpi_comm.h says it whole): this file is the top of src/mpi. It calls
+ * the communication layer (pg_mpi_comm.c: ownership, collectives) and, through the
+ * hooks, the distributed pit removal (pg_mpi_pits_remove, pg_mpi_pits_stats); nothing
+ * in src/mpi calls back into it.
  *
  * Exchange plans. For a level (scale) and a width w, the texels a rank q reads from
  * others are the rings of width w around q's tiles: inside a face, the texels
@@ -18,7 +24,7 @@
  * reads at most two texels beyond a tile (width 2); the steps that read the whole
  * planet get the whole level first (allgather, width -1), and are deterministic, so
  * every rank computes the same values as a single process would. */
-#include "planetgen/pg_mpi.h"
+#include "pg_mpi_comm.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,75 +44,18 @@ int pg_mpi_launcher_size(int *rank) {
     return 1;
 }
 
-int pg_mpi_tile_first(int ntiles, int nranks, int rank) {
-    return (int)((int64_t)rank * ntiles / nranks);
-}
-
-int pg_mpi_tile_owner(int ntiles, int nranks, int t) {
-    /* the largest q with first(q) <= t */
-    int q = (int)(((int64_t)t * nranks + nranks - 1) / ntiles);
-    if (q >= nranks) q = nranks - 1;
-    while (q > 0 && pg_mpi_tile_first(ntiles, nranks, q) > t)
-        q--;
-    while (q + 1 < nranks && pg_mpi_tile_first(ntiles, nranks, q + 1) <= t)
-        q++;
-    return q;
-}
-
 #ifdef PG_HAVE_MPI
 
 #include <limits.h>
 #include <mpi.h>
 #include <unistd.h>
 
-typedef struct idx_vec {
-    size_t *a;
-    size_t n, cap;
-    int oom;
-} idx_vec;
-
-static void idx_push(idx_vec *v, size_t i) {
-    if (v->n == v->cap) {
-        size_t cap = v->cap ? 2 * v->cap : 256;
-        size_t *a = realloc(v->a, cap * sizeof *a);
-        if (!a) {
-            v->oom = 1;
-            return;
-        }
-        v->a = a, v->cap = cap;
-    }
-    v->a[v->n++] = i;
-}
-
-static int cmp_size(const void *a, const void *b) {
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Sort and drop duplicates (a texel can lie in the rings of two tiles). */
-static void idx_unique(idx_vec *v) {
-    if (!v->n) return;
-    qsort(v->a, v->n, sizeof *v->a, cmp_size);
-    size_t k = 1;
-    for (size_t i = 1; i < v->n; i++)
-        if (v->a[i] != v->a[k - 1]) v->a[k++] = v->a[i];
-    v->n = k;
-}
-
-typedef struct plan {
+/* The exchange plan of the current (scale, width), per rank. */
+typedef struct pg_mpi_plan {
     int valid, scale, width, r;
-    idx_vec *send, *recv; /* per rank */
-    uint32_t *buf;        /* 2 words per texel: all sends, then all receives */
+    pg_mpi_idx *send, *recv; /* per rank */
+    uint32_t *buf;           /* 2 words per texel: all sends, then all receives */
 } plan;
-
-struct pg_mpi {
-    MPI_Comm comm;
-    int rank, size;
-    int tiles, ntiles;
-    int fail_rank, fail_scale;
-    plan pl;
-    pg_mpi_stats stats;
-};
 
 bool pg_mpi_built(void) {
     return true;
@@ -118,7 +67,12 @@ pg_status pg_mpi_init(pg_mpi **out, pg_error *err) {
     if (!inited && MPI_Init_thread(NULL, NULL, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
         return pg_error_set(err, PG_ERR_RUNTIME, "MPI_Init failed");
     pg_mpi *m = calloc(1, sizeof *m);
-    if (!m) return pg_error_set(err, PG_ERR_NOMEM, "MPI: out of memory");
+    plan *pl = calloc(1, sizeof *pl);
+    if (!m || !pl) {
+        free(m), free(pl);
+        return pg_error_set(err, PG_ERR_NOMEM, "MPI: out of memory");
+    }
+    m->pl = pl;
     m->comm = MPI_COMM_WORLD;
     MPI_Comm_rank(m->comm, &m->rank);
     MPI_Comm_size(m->comm, &m->size);
@@ -138,7 +92,8 @@ static void plan_free(plan *p, int size) {
 
 void pg_mpi_finalize(pg_mpi *m) {
     if (!m) return;
-    plan_free(&m->pl, m->size);
+    plan_free(m->pl, m->size);
+    free(m->pl);
     free(m);
     MPI_Finalize();
 }
@@ -148,38 +103,6 @@ void pg_mpi_abort(pg_mpi *m, int code) {
     fflush(stderr);
     MPI_Abort(m ? m->comm : MPI_COMM_WORLD, code);
     _exit(code); /* MPI_Abort does not return; this keeps the compiler sure of it */
-}
-
-int pg_mpi_rank(const pg_mpi *m) {
-    return m ? m->rank : 0;
-}
-
-int pg_mpi_size(const pg_mpi *m) {
-    return m ? m->size : 1;
-}
-
-void pg_mpi_barrier(pg_mpi *m) {
-    if (m) MPI_Barrier(m->comm);
-}
-
-int pg_mpi_max_int(pg_mpi *m, int v) {
-    int r = v;
-    if (m) MPI_Allreduce(&v, &r, 1, MPI_INT, MPI_MAX, m->comm);
-    return r;
-}
-
-void pg_mpi_gather_double(pg_mpi *m, double v, double *out) {
-    if (!m) {
-        out[0] = v;
-        return;
-    }
-    MPI_Gather(&v, 1, MPI_DOUBLE, out, 1, MPI_DOUBLE, 0, m->comm);
-}
-
-double pg_mpi_sum_double(pg_mpi *m, double v) {
-    double r = v;
-    if (m) MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_SUM, m->comm);
-    return r;
 }
 
 /* ---- ownership as the synthesis sees it ---- */
@@ -219,14 +142,14 @@ static void plan_ring(const pg_mpi *m, const pg_cube_grid *g, const pg_planet_le
                 }
                 int o = owner_of(m, T, sf, sx / ts, sy / ts);
                 size_t i = level_index(L, sf, sx, sy);
-                if (q == me && o != me) idx_push(&p->recv[o], i);
-                if (q != me && o == me) idx_push(&p->send[q], i);
+                if (q == me && o != me) pg_mpi_idx_push(&p->recv[o], i);
+                if (q != me && o == me) pg_mpi_idx_push(&p->send[q], i);
             }
     }
 }
 
 static pg_status plan_build(pg_mpi *m, const pg_planet_level *L, int w, pg_error *err) {
-    plan *p = &m->pl;
+    plan *p = m->pl;
     if (p->valid && p->scale == L->scale && p->width == w && p->r == L->r) return PG_OK;
     plan_free(p, m->size);
     pg_cube_grid g;
@@ -240,8 +163,8 @@ static pg_status plan_build(pg_mpi *m, const pg_planet_level *L, int w, pg_error
     size_t words = 0;
     int oom = 0;
     for (int q = 0; q < m->size; q++) {
-        idx_unique(&p->send[q]);
-        idx_unique(&p->recv[q]);
+        pg_mpi_idx_unique(&p->send[q]);
+        pg_mpi_idx_unique(&p->recv[q]);
         words += 2 * (p->send[q].n + p->recv[q].n);
         oom |= p->send[q].oom | p->recv[q].oom;
         if (2 * p->send[q].n > INT_MAX || 2 * p->recv[q].n > INT_MAX) oom = 2;
@@ -254,14 +177,14 @@ static pg_status plan_build(pg_mpi *m, const pg_planet_level *L, int w, pg_error
     return PG_OK;
 }
 
-static void pack(const pg_planet_level *L, const idx_vec *v, uint32_t *out) {
+static void pack(const pg_planet_level *L, const pg_mpi_idx *v, uint32_t *out) {
     for (size_t k = 0; k < v->n; k++) {
         out[2 * k] = L->S[v->a[k]];
         memcpy(&out[2 * k + 1], &L->V[v->a[k]], 4);
     }
 }
 
-static void unpack(const pg_planet_level *L, const idx_vec *v, const uint32_t *in) {
+static void unpack(const pg_planet_level *L, const pg_mpi_idx *v, const uint32_t *in) {
     for (size_t k = 0; k < v->n; k++) {
         L->S[v->a[k]] = in[2 * k];
         memcpy(&L->V[v->a[k]], &in[2 * k + 1], 4);
@@ -272,7 +195,7 @@ static void unpack(const pg_planet_level *L, const idx_vec *v, const uint32_t *i
 static pg_status exchange_halo(pg_mpi *m, const pg_planet_level *L, int w, pg_error *err) {
     pg_status st = plan_build(m, L, w, err);
     if (st) return st;
-    plan *p = &m->pl;
+    plan *p = m->pl;
     MPI_Request *req = malloc(2 * (size_t)m->size * sizeof *req);
     if (!req) return pg_error_set(err, PG_ERR_NOMEM, "MPI: out of memory");
     int nreq = 0;
@@ -395,10 +318,6 @@ static pg_status stats_hook(void *user, uint32_t n, int tiles, const float *h,
     return st;
 }
 
-void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes) {
-    if (m) m->stats.pits_bytes += bytes;
-}
-
 static double sum_hook(void *user, double v) {
     return pg_mpi_sum_double(user, v);
 }
@@ -414,10 +333,6 @@ void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     d->pits = pits_hook;
     d->stats = stats_hook;
     d->sum = sum_hook;
-}
-
-const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m) {
-    return &m->stats;
 }
 
 #else /* no MPI: the CLI refuses multi-rank launches before calling any of these */
@@ -440,48 +355,9 @@ void pg_mpi_abort(pg_mpi *m, int code) {
     exit(code);
 }
 
-int pg_mpi_rank(const pg_mpi *m) {
-    (void)m;
-    return 0;
-}
-
-int pg_mpi_size(const pg_mpi *m) {
-    (void)m;
-    return 1;
-}
-
-void pg_mpi_barrier(pg_mpi *m) {
-    (void)m;
-}
-
-int pg_mpi_max_int(pg_mpi *m, int v) {
-    (void)m;
-    return v;
-}
-
-void pg_mpi_gather_double(pg_mpi *m, double v, double *out) {
-    (void)m;
-    out[0] = v;
-}
-
-double pg_mpi_sum_double(pg_mpi *m, double v) {
-    (void)m;
-    return v;
-}
-
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     (void)m, (void)tiles;
     memset(d, 0, sizeof *d);
-}
-
-void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes) {
-    (void)m, (void)bytes;
-}
-
-static const pg_mpi_stats no_stats;
-const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m) {
-    (void)m;
-    return &no_stats;
 }
 
 #endif

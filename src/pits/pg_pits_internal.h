@@ -48,6 +48,10 @@ static inline float pits_down(float v) {
     return nextafterf(v, -INFINITY);
 }
 
+/* Room for `need` elements of elem bytes in the array a of capacity *cap (doubling,
+ * from `first` when empty): returns the array, perhaps moved, or NULL when out of
+ * memory (then a is still valid and *cap unchanged). */
+
 /* ---- 4-ary min-heap of keys ---- */
 typedef struct pits_heap {
     uint64_t *a;

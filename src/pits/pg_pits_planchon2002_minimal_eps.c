@@ -20,9 +20,9 @@
  * W2(c) <= max(h(c), up(W2(n))) = W1(c): a contradiction. So any method that reaches a
  * fixed point of (1) produces the same bits - this flood on one process, or ranks
  * that flood their own tiles and exchange the ring around them until nothing changes
- * (pg_mpi_pits_barnes2016.c). Barnes's epsilon flood also drains every cell, but its
- * FIFO settles a flat from the first rim cell it reaches, so its ulps follow the flood
- * order: a tile decomposition cannot reproduce them.
+ * (src/mpi/pg_mpi_pits_planchon2002_eps.c). Barnes's epsilon flood also drains every
+ * cell, but its FIFO settles a flat from the first rim cell it reaches, so its ulps
+ * follow the flood order: a tile decomposition cannot reproduce them.
  * The same argument shows that W does not change when h is replaced by any surface F
  * with h <= F <= W, e.g. the minimal (plain) fill: the distributed version uses that.
  *

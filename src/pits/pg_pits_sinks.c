@@ -1,5 +1,6 @@
 /* pg_pits_sinks.c - the common start of every flood: validating options, choosing the
- * sinks and seeding the priority queue, plus the queues' out-of-line growth.
+ * sinks and seeding the priority queue, plus the out-of-line growth of the queues
+ * (through pg_array.h, the one growable-array helper).
  *
  * Sinks are the outlets water leaves the terrain through: cells at or below the sea
  * level, lake cells, no-data cells and (flat grids with open_edges) the border. A

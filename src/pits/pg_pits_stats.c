@@ -3,12 +3,12 @@
  *
  * A depression is an 8-connected region of cells that the minimal fill (plain
  * Priority-Flood, Barnes et al. 2014) raises. Its volume and area are measured
- * against the epsilon-fill, as the issue asks: volume = sum of (epsfill - h) * area
- * over the depression's cells. Using the minimal fill to decide membership keeps
- * drained flats out (the epsilon-fill raises those by ulps to give them a slope,
- * but water already leaves them); this makes the count 0 after every method here,
- * plain or epsilon. Regions are found with a FIFO flood through the same neighbour
- * interface, so a basin straddling a face seam counts once. */
+ * against the epsilon-fill (docs/pits.md, "Metrics"): volume = sum of
+ * (epsfill - h) * area over the depression's cells. Using the minimal fill to decide
+ * membership keeps drained flats out (the epsilon-fill raises those by ulps to give
+ * them a slope, but water already leaves them); this makes the count 0 after every
+ * method here, plain or epsilon. Regions are found with a FIFO flood through the same
+ * neighbour interface, so a basin straddling a face seam counts once. */
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>

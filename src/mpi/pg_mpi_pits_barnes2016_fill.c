@@ -1,0 +1,209 @@
+/* pg_mpi_pits_barnes2016_fill.c - distributed depression filling on the cube sphere.
+ *
+ * Source: R. Barnes (2016), "Flexibly distributed Priority-Flood depression filling
+ * for teracell DEMs" (arXiv:1608.04431; Computers & Geosciences 96). Its four steps,
+ * with the ranks of pg_mpi.h owning cube tiles:
+ *   1. each rank floods each of its tiles alone (Improved Priority-Flood, Barnes et al.
+ *      2014), seeded with the tile's sinks (label OUTLET) and with every perimeter cell
+ *      (a cell with a neighbour in another tile) under its own label 2 + cell id;
+ *      every cell joins the label it was flooded from;
+ *   2. it builds the graph of spill elevations over those labels: where two labels
+ *      meet inside a tile, max(W(a), W(b)); for every pair of neighbouring cells in two
+ *      tiles, max(h(a), h(b)) (sinks count as -inf) - the neighbour's height comes from
+ *      a one-cell ring exchange, its label is known without asking (2 + id, or OUTLET);
+ *   3. rank 0 gathers the (small: perimeter-sized) graph and solves it: a minimax
+ *      Dijkstra from OUTLET gives each label the lowest level at which its water
+ *      reaches a sink;
+ *   4. rank 0 broadcasts the levels, and every rank raises its cells to the level of
+ *      their label: h = max(h, level(label)).
+ * Steps 1-3 are the core shared with the threaded fill (src/pits/pg_pits_barnes2016_core.c);
+ * this file distributes them. With epsilon, the plain fill is then lifted to the
+ * minimal epsilon-surface in rounds (pg_mpi_pits_planchon2002_eps.c).
+ * Preconditions: plain fill (no epsilon), sinks = cells at or below the sea level (no
+ * lakes, no no-data), at least one sink on the planet (the serial fill would otherwise
+ * pick the lowest cell, a global choice); only the rank's own tiles of h need be valid.
+ * Why it is correct: as the in-process version (pg_pits_barnes2016_parallel_fill.c):
+ * the minimal fill of a cell is the minimax height of its paths to a sink; inside a
+ * tile the flood gives the minimax to its label's seed, and the graph composes the
+ * segments exactly. The minimal fill is unique, so every owned cell comes out
+ * bit-identical to pg_pits_remove's plain fill (the test compares them for 1, 2 and 4
+ * ranks; docs/mpi.md, "Pit removal across ranks"). */
+#include "pg_mpi_pits.h"
+
+#include <stdlib.h>
+
+#ifdef PG_HAVE_MPI
+
+#include "pg_pits_barnes2016_core.h"
+
+#include <limits.h>
+
+/* The label a perimeter cell has after step 1, known to every rank. */
+static uint32_t perimeter_label(const pg_mpi_pits_grid *d, uint32_t id) {
+    return pg_mpi_pits_sink(d, id) ? PITS_B16_OUTLET : 2 + id;
+}
+
+/* Steps 1 and 2 on tile t: the shared flood, then its cross-tile cell pairs as label
+ * pairs into ev. */
+static int flood_tile(pg_mpi_pits_grid *d, uint32_t *label, int t, pits_b16_edges *ev,
+                      pits_b16_edges *cross) {
+    const pg_mpi_tiling *g = &d->g;
+    uint32_t lo = pg_mpi_tile_cell(g, t, 0, 0), c0 = lo % g->n;
+    pits_b16_tile b = {.t = g->t,
+                       .h = d->h,
+                       .label = label,
+                       .sea = d->sea,
+                       .lo = lo,
+                       .hi = pg_mpi_tile_cell(g, t, g->ts - 1, g->ts - 1) + 1,
+                       .w = g->n,
+                       .c0 = c0,
+                       .c1 = c0 + g->ts,
+                       .wshift = g->ln};
+    cross->n = 0;
+    int oom = pits_b16_flood_tile(&b, ev, cross);
+    for (size_t k = 0; !oom && k < cross->n; k++)
+        pits_b16_edge_push(ev, perimeter_label(d, cross->e[k].a), perimeter_label(d, cross->e[k].b),
+                           cross->e[k].w);
+    return oom || ev->oom;
+}
+
+/* Rank 0: the sorted labels of the gathered edges, the edges renumbered to their
+ * indices, and the levels. Nonzero when out of memory. */
+static int solve_root(pits_b16_edge *all, size_t ne, uint32_t **labels_out, float **levels_out,
+                      size_t *nl_out) {
+    uint32_t *labels = malloc((2 * ne + 1) * sizeof *labels);
+    float *levels = NULL;
+    size_t nl = 0;
+    int oom = !labels;
+    for (size_t k = 0; !oom && k < ne; k++)
+        labels[2 * k] = all[k].a, labels[2 * k + 1] = all[k].b;
+    if (!oom) nl = pits_sort_unique_u32(labels, 2 * ne);
+    for (size_t k = 0; !oom && k < ne; k++) {
+        all[k].a = pits_sorted_index(labels, nl, all[k].a);
+        all[k].b = pits_sorted_index(labels, nl, all[k].b);
+    }
+    levels = oom ? NULL : malloc((nl + 1) * sizeof *levels);
+    uint32_t source = nl && labels[0] == PITS_B16_OUTLET ? 0 : UINT32_MAX;
+    pits_b16_edges one = {all, ne, ne, 0};
+    oom = oom || !levels || pits_b16_solve(&one, 1, nl, source, levels);
+    *labels_out = labels, *levels_out = levels, *nl_out = nl;
+    return oom;
+}
+
+/* Step 3: gather on rank 0, solve, then broadcast (labels, levels). Every rank
+ * returns them. */
+static int solve_and_share(pg_mpi *m, const pits_b16_edges *ev, uint32_t **labels_out,
+                           float **levels_out, size_t *nl_out) {
+    const MPI_Comm comm = pg_mpi_comm_of(m);
+    size_t words = 0, nl = 0;
+    int oom = 0;
+    pits_b16_edge *all = pg_mpi_gather_root(m, ev->e, ev->n * 3, MPI_UINT32_T, 4, &words, &oom);
+    uint32_t *labels = NULL;
+    float *levels = NULL;
+    if (!oom && pg_mpi_rank(m) == 0) oom = solve_root(all, words / 3, &labels, &levels, &nl);
+    free(all);
+    unsigned long long n64 = nl;
+    int bad = oom;
+    MPI_Bcast(&bad, 1, MPI_INT, 0, comm);
+    MPI_Bcast(&n64, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+    if (!bad && n64 > INT_MAX) bad = 1;
+    nl = (size_t)n64;
+    if (!bad && pg_mpi_rank(m) != 0) {
+        labels = malloc((nl + 1) * sizeof *labels);
+        levels = malloc((nl + 1) * sizeof *levels);
+    }
+    int local_bad = !bad && (!labels || !levels);
+    MPI_Allreduce(&local_bad, &oom, 1, MPI_INT, MPI_MAX, comm);
+    if (!bad && !oom) {
+        MPI_Bcast(labels, (int)nl, MPI_UINT32_T, 0, comm);
+        MPI_Bcast(levels, (int)nl, MPI_FLOAT, 0, comm);
+        if (pg_mpi_rank(m) == 0) /* what rank 0 sends to each of the others */
+            pg_mpi_note_pits_bytes(m, 8.0 * (double)nl * (pg_mpi_size(m) - 1));
+    }
+    *labels_out = labels, *levels_out = levels, *nl_out = nl;
+    return bad || oom;
+}
+
+pg_status pg_mpi_pits_check_fill(const pg_pits_opts *o, pg_error *err) {
+    if (o->method != PG_PITS_FILL || !o->has_sea_level || o->lakes || o->has_nodata)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "pits (MPI): the distributed fill needs the fill method "
+                            "with a sea level, no lakes and no no-data");
+    return PG_OK;
+}
+
+/* Every rank must see a sink somewhere (the serial fill's fallback is global). */
+static pg_status check_ocean(const pg_mpi_pits_grid *d, pg_error *err) {
+    double sinks = 0;
+    PG_MPI_FOR_OWNED(&d->g, id) {
+        sinks += pg_mpi_pits_sink(d, id);
+    }
+    if (pg_mpi_sum_double(d->g.m, sinks) == 0)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "pits (MPI): no cell at or below the sea level: the distributed "
+                            "fill needs an ocean");
+    return PG_OK;
+}
+
+/* Steps 1 and 2 over this rank's tiles, into ev (compacted). Nonzero when out of memory. */
+static int flood_tiles(pg_mpi_pits_grid *d, uint32_t *label, pits_b16_edges *ev) {
+    pits_b16_edges cross = {0};
+    int oom = !label;
+    for (int t = d->g.t0; !oom && t < d->g.t1; t++)
+        oom = flood_tile(d, label, t, ev, &cross);
+    free(cross.e);
+    if (!oom) pits_b16_edges_compact(ev);
+    return oom;
+}
+
+/* Step 4: raise this rank's cells to their label's level. */
+static void apply_levels(pg_mpi_pits_grid *d, const uint32_t *label, const uint32_t *labels,
+                         const float *levels, size_t nl, pg_mpi_pits_info *info) {
+    PG_MPI_FOR_OWNED(&d->g, id) {
+        if (pg_mpi_pits_sink(d, id)) continue;
+        float lv = levels[pits_sorted_index(labels, nl, label[id])];
+        if (lv > d->h[id] && lv < INFINITY) d->h[id] = lv, info->raised++;
+    }
+}
+
+pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                           pg_mpi_pits_info *info, pg_error *err) {
+    pg_pits_topo topo;
+    pg_mpi_pits_grid d;
+    pg_status st = pg_mpi_pits_check_fill(o, err);
+    if (!st) st = pg_mpi_pits_grid_init(&d, &topo, m, tiles, n, h, o, err);
+    if (st) return st;
+    memset(info, 0, sizeof *info);
+    if ((st = check_ocean(&d, err))) return st;
+    st = pg_mpi_ring_exchange(&d.g, d.h, sizeof *d.h, err);
+    if (pg_mpi_max_int(m, st != PG_OK))
+        return st ? st : pg_error_set(err, PG_ERR_RUNTIME, "pits (MPI): another rank failed");
+    uint32_t *label = calloc(topo.ncells, sizeof *label); /* only the owned tiles are touched */
+    pits_b16_edges ev = {0};
+    double t_start = MPI_Wtime();
+    int oom = flood_tiles(&d, label, &ev);
+    info->flood_seconds = MPI_Wtime() - t_start;
+    info->edges = (double)ev.n;
+    oom = pg_mpi_max_int(m, oom);
+    uint32_t *labels = NULL;
+    float *levels = NULL;
+    size_t nl = 0;
+    t_start = MPI_Wtime();
+    if (!oom) oom = solve_and_share(m, &ev, &labels, &levels, &nl);
+    info->solve_seconds = MPI_Wtime() - t_start;
+    info->labels = (double)nl;
+    if (!oom) apply_levels(&d, label, labels, levels, nl, info);
+    free(ev.e), free(label), free(labels), free(levels);
+    if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory");
+    return o->epsilon ? pg_mpi_pits_eps_rounds(&d, info, err) : PG_OK;
+}
+
+#else
+
+pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
+                           pg_mpi_pits_info *info, pg_error *err) {
+    (void)m, (void)tiles, (void)n, (void)h, (void)o, (void)info;
+    return pg_error_set(err, PG_ERR_RUNTIME, "this planetgen was built without MPI");
+}
+
+#endif
