@@ -244,7 +244,8 @@ static int in_sample(const earth *e, int64_t id, int hemi, int land_only) {
 static double correlate(const earth *e, const float *model, const double *obs, int hemi,
                         int land_only, int spearman) {
     size_t m = 0;
-    double *a = malloc((size_t)e->total * sizeof(double)), *b = malloc((size_t)e->total * 8);
+    double *a = malloc((size_t)e->total * sizeof(double)),
+           *b = malloc((size_t)e->total * sizeof(double));
     double *w = malloc((size_t)e->total * sizeof(double));
     for (int64_t id = 0; id < e->total; id++) {
         if (!in_sample(e, id, hemi, land_only)) continue;
