@@ -1,0 +1,155 @@
+/* pg_plates_relief.c - from crust to elevation: ocean depth by age (Parsons and Sclater
+ * 1977), continental platforms with shelves and slopes, trenches, rift valleys, the
+ * tectonic relief accumulated by the simulation, and sea level by an area-weighted
+ * quantile so that the requested share of the sphere is land.
+ *
+ * OCEAN. Depth grows with the square root of crust age, as a cooling half-space
+ * (Parsons & Sclater 1977, J. Geophys. Res. 82(5): about 2500 + 350 sqrt(a) m), and
+ * flattens for old crust as a cooling plate. We use the GDH1 fit of the same two-branch
+ * form (Stein & Stein 1992, Nature 359): d(a) = 2600 + 365 sqrt(a) m for a < 20 Myr,
+ * 5651 - 2473 exp(-0.0278 a) m beyond (continuous to 1 m at 20 Myr), so ridges stand
+ * near -2.6 km and old basins flatten near -5.6 km; Parsons and Sclater's own plate
+ * branch flattens near 6.4 km, deeper than the 5-6 km of Earth's old basins.
+ *
+ * CONTINENTS. A platform rising from -500 m at the crust boundary to +800 m inland with
+ * an e-folding of 300 km (the shelf is the part the sea level floods), plus broad noise
+ * of +-700 m (features of about a radian: basins and uplands). Crossing the continent-ocean
+ * boundary, each texel is averaged with its 8 neighbours once: at 140 km texels this is the
+ * continental slope.
+ *
+ * BOUNDARIES. Oceanic crust within ~100 km of a convergent boundary is deepened by up to
+ * 2 km (the trench on the subducting side; the overriding side's arc uplift from the
+ * simulation starts at the front and dominates there). Continental crust within ~150 km
+ * of a divergent boundary is lowered by up to 700 m (a rift valley).
+ *
+ * SEA LEVEL. Ocean depths are depths below sea level (that is what Parsons and Sclater
+ * fitted), so the ocean floor stays put and the continents float: their common offset is
+ * the area-weighted quantile of continental elevations that makes land_fraction of the
+ * sphere land (counting oceanic land, arcs and hotspot islands, as already there). After
+ * the slope smoothing, a second quantile over the whole field levels it exactly: sorted
+ * by elevation, the level falls midway between the two texels where the area above
+ * reaches land_fraction, so no texel sits at 0 and the share is exact to one texel. */
+#include "pg_plates_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+double pg_plates_ocean_depth(double age_myr) {
+    double a = fmax(0, age_myr);
+    if (a < 20) return 2600 + 365 * sqrt(a);
+    return 5651 - 2473 * exp(-0.0278 * a);
+}
+
+static double pg_plates_raw(const pg_plates_params *p, const pg_plates_grid *g,
+                            const pg_plates_state *s, int64_t t, double margin_km, double conv_km,
+                            double div_km) {
+    const double *d = g->dir + 3 * t;
+    double noise = pg_plates_fbm(p->seed, PG_PLATES_S_RELIEF, d, 2.0, 4);
+    if (s->crust[t] == PG_PLATES_CONTINENTAL) {
+        double z = -500 + 1300 * (1 - exp(-margin_km / 300)) + 700 * noise + s->relief[t];
+        return z - 700 * exp(-(div_km / 150) * (div_km / 150));
+    }
+    double z = -pg_plates_ocean_depth(s->age[t]) + 150 * noise + s->relief[t];
+    return z - 2000 * exp(-(conv_km / 90) * (conv_km / 90));
+}
+
+/* The level at which the area of `z` above it is closest to `target` (km^2), counting only
+ * texels with sel[t] (all when sel is NULL); `other` km^2 of land is already counted. */
+static pg_status pg_plates_quantile(const pg_plates_grid *g, const float *z, const uint8_t *sel,
+                                    uint8_t want, double target, double *level, pg_error *err) {
+    pg_plates_keyed *k = malloc(sizeof *k * (size_t)g->count);
+    if (!k) return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for sea level");
+    int64_t m = 0;
+    for (int64_t t = 0; t < g->count; t++)
+        if (!sel || sel[t] == want) k[m++] = (pg_plates_keyed){z[t], t};
+    if (m == 0) {
+        free(k);
+        *level = 0;
+        return PG_OK;
+    }
+    qsort(k, (size_t)m, sizeof *k, pg_plates_keyed_cmp);
+    double above = 0;
+    int64_t i = m - 1;
+    while (i > 0 && above + g->area[k[i].id] <= target)
+        above += g->area[k[i--].id];
+    /* k[i+1..] is land; take texel i too when that lands closer to the target */
+    if (target - above > above + g->area[k[i].id] - target && i > 0) i--;
+    *level = target <= 0 ? k[m - 1].key + 1 : 0.5 * (k[i].key + k[i + 1 < m ? i + 1 : i].key);
+    free(k);
+    return PG_OK;
+}
+
+/* Continents float: their offset is chosen so that, with the ocean floor fixed below sea
+ * level by its age, the land share is met; then the whole field is levelled exactly. */
+static pg_status pg_plates_sea_level(const pg_plates_params *p, const pg_plates_grid *g,
+                                     pg_plates_world *w, float *raw, pg_error *err) {
+    double total = 0, ocean_land = 0, level;
+    for (int64_t t = 0; t < g->count; t++) {
+        total += g->area[t];
+        if (w->crust[t] == PG_PLATES_OCEANIC && raw[t] > 0) ocean_land += g->area[t];
+    }
+    pg_status st = pg_plates_quantile(g, raw, w->crust, PG_PLATES_CONTINENTAL,
+                                      p->land_fraction * total - ocean_land, &level, err);
+    if (st != PG_OK) return st;
+    for (int64_t t = 0; t < g->count; t++)
+        if (w->crust[t] == PG_PLATES_CONTINENTAL) raw[t] = (float)(raw[t] - level);
+            /* the continental slope: one 3x3 mean across the crust boundary */
+#pragma omp parallel for schedule(static)
+    for (int64_t t = 0; t < g->count; t++) {
+        int mixed = 0;
+        double sum = raw[t];
+        for (int d = 0; d < 8; d++) {
+            int64_t q = g->nbr[8 * t + d];
+            mixed |= w->crust[q] != w->crust[t];
+            sum += raw[q];
+        }
+        w->elevation_m[t] = mixed ? (float)(sum / 9) : raw[t];
+    }
+    double fine;
+    st = pg_plates_quantile(g, w->elevation_m, NULL, 0, p->land_fraction * total, &fine, err);
+    if (st != PG_OK) return st;
+    w->sea_level_m = level + fine;
+    for (int64_t t = 0; t < g->count; t++)
+        w->elevation_m[t] = (float)(w->elevation_m[t] - fine);
+    return PG_OK;
+}
+
+pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
+                           const pg_plates_state *s, pg_error *err) {
+    size_t c = (size_t)g->count;
+    float *margin = malloc(sizeof(float) * c), *div = malloc(sizeof(float) * c);
+    uint8_t *src = malloc(c);
+    double(*omega)[3] = malloc(sizeof *omega * (size_t)p->plates);
+    pg_status st = PG_OK;
+    if (!margin || !div || !src || !omega) {
+        st = pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for the relief");
+        goto done;
+    }
+    memcpy(w->plate, s->plate, c);
+    memcpy(w->crust, s->crust, c);
+    memcpy(w->age_myr, s->age, sizeof(float) * c);
+    for (int k = 0; k < p->plates; k++)
+        memcpy(omega[k], w->plates[k].omega, sizeof omega[k]);
+    st = pg_plates_classify(g->n, g->proj, w->plate, p->plates, (const double(*)[3])omega,
+                            w->boundary, err);
+    for (int64_t t = 0; t < g->count; t++)
+        src[t] = w->boundary[t] == PG_PLATES_CONVERGENT;
+    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, w->convergent_km, err);
+    for (int64_t t = 0; t < g->count; t++)
+        src[t] = w->boundary[t] == PG_PLATES_DIVERGENT;
+    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, div, err);
+    for (int64_t t = 0; t < g->count; t++)
+        src[t] = w->crust[t] == PG_PLATES_OCEANIC;
+    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, margin, err);
+    if (st != PG_OK) goto done;
+#pragma omp parallel for schedule(static)
+    for (int64_t t = 0; t < g->count; t++)
+        margin[t] = (float)pg_plates_raw(p, g, s, t, margin[t], w->convergent_km[t], div[t]);
+    st = pg_plates_sea_level(p, g, w, margin, err);
+done:
+    free(margin);
+    free(div);
+    free(src);
+    free(omega);
+    return st;
+}

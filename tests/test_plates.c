@@ -1,0 +1,263 @@
+/* test_plates.c - the plate model (pg_plates.h): the same seed gives byte-identical
+ * worlds with 1 and 2 threads and another seed another world; plates are non-empty,
+ * tile the sphere and none covers half of it; all three boundary kinds occur, and two
+ * hemispheres with known Euler poles are classified as theory says; sea level yields
+ * the requested land share; over seeds 1..8 the macro structure is Earth-like
+ * (landmasses, mountain belts on convergent boundaries, ocean and land mean heights).
+ * Renders the preview maps into the scratch directory and prints the timing. */
+#include "pg_test.h"
+
+#include "planetgen/pg_plates.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PG_PI 3.14159265358979323846
+
+static void gen(const pg_plates_params *p, pg_plates_world *w) {
+    pg_error err = {0};
+    pg_plates_world_init(w);
+    pg_status st = pg_plates_generate(p, w, &err);
+    if (st != PG_OK) print_message("%s\n", err.msg);
+    assert_int_equal(st, PG_OK);
+}
+
+static int64_t count(const pg_plates_world *w) {
+    return 6 * w->n * w->n;
+}
+
+static int same_world(const pg_plates_world *a, const pg_plates_world *b) {
+    size_t c = (size_t)count(a);
+    return a->n == b->n && !memcmp(a->elevation_m, b->elevation_m, c * sizeof(float)) &&
+           !memcmp(a->crust, b->crust, c) && !memcmp(a->age_myr, b->age_myr, c * sizeof(float)) &&
+           !memcmp(a->plate, b->plate, c) && !memcmp(a->boundary, b->boundary, c) &&
+           !memcmp(a->convergent_km, b->convergent_km, c * sizeof(float));
+}
+
+static void test_determinism(void **state) {
+    (void)state;
+    pg_plates_params p;
+    pg_plates_params_default(&p);
+    p.seed = 7;
+    pg_plates_world a, b, c;
+    omp_set_num_threads(1);
+    double t0 = omp_get_wtime();
+    gen(&p, &a);
+    double t1 = omp_get_wtime();
+    omp_set_num_threads(2);
+    gen(&p, &b);
+    double t2 = omp_get_wtime();
+    print_message("default world (n = 64, 14 plates, %d steps): %.2f s on 1 thread, %.2f s on 2\n",
+                  p.steps, t1 - t0, t2 - t1);
+    assert_true(same_world(&a, &b));
+    p.seed = 8;
+    gen(&p, &c);
+    assert_false(same_world(&a, &c));
+    size_t differ = 0;
+    for (int64_t t = 0; t < count(&a); t++)
+        differ += a.elevation_m[t] != c.elevation_m[t];
+    assert_true(differ > (size_t)count(&a) / 2);
+    pg_plates_world_free(&a);
+    pg_plates_world_free(&b);
+    pg_plates_world_free(&c);
+}
+
+static void test_plate_areas(void **state) {
+    (void)state;
+    pg_plates_params p;
+    pg_plates_params_default(&p);
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        p.seed = seed;
+        pg_plates_world w;
+        gen(&p, &w);
+        double sum = 0, largest = 0, sphere = 4 * PG_PI * p.radius_km * p.radius_km;
+        for (int k = 0; k < w.nplates; k++) {
+            assert_true(w.plates[k].area_km2 > 0);
+            sum += w.plates[k].area_km2;
+            largest = fmax(largest, w.plates[k].area_km2);
+        }
+        print_message("seed %llu: plate areas sum / sphere - 1 = %.2e, largest plate %.3f\n",
+                      (unsigned long long)seed, sum / sphere - 1, largest / sphere);
+        assert_true(fabs(sum / sphere - 1) < 1e-6);
+        assert_true(largest / sphere <= 0.5);
+        pg_plates_world_free(&w);
+    }
+}
+
+/* Two hemispheres, x > 0 (plate 0) and x < 0 (plate 1), spun about `axis` in opposite
+ * senses; `expect` gives the kind theory predicts at a boundary texel's centre. */
+static double two_plate_score(const double axis[3], int (*expect)(const double p[3])) {
+    const int64_t n = 48;
+    const pg_cube_projection proj = PG_CUBE_DEFAULT_PROJECTION;
+    static uint8_t plate[6 * 48 * 48], kind[6 * 48 * 48];
+    pg_cube_grid g;
+    pg_error err = {0};
+    assert_int_equal(pg_cube_grid_init(&g, proj, 3, 16, &err), PG_OK);
+    for (int64_t t = 0; t < 6 * n * n; t++) {
+        double d[3];
+        pg_cube_texel_dir(&g, t, d);
+        plate[t] = d[0] < 0;
+    }
+    double omega[2][3];
+    for (int i = 0; i < 3; i++) {
+        omega[0][i] = axis[i];
+        omega[1][i] = -axis[i];
+    }
+    assert_int_equal(pg_plates_classify(n, proj, plate, 2, (const double(*)[3])omega, kind, &err),
+                     PG_OK);
+    int64_t total = 0, right = 0;
+    for (int64_t t = 0; t < 6 * n * n; t++) {
+        if (kind[t] == PG_PLATES_INTERIOR) continue;
+        double d[3];
+        pg_cube_texel_dir(&g, t, d);
+        total++;
+        right += kind[t] == expect(d);
+    }
+    assert_true(total > 4 * n);
+    return (double)right / (double)total;
+}
+
+/* Spin about +z: plate 0 (x > 0) moves towards -x where y > 0, plate 1 towards +x:
+ * they meet (convergent) at y > 0 and part (divergent) at y < 0. */
+static int expect_z(const double p[3]) {
+    return p[1] > 0 ? PG_PLATES_CONVERGENT : PG_PLATES_DIVERGENT;
+}
+
+/* Spin about +x, the boundary circle's own axis: motion along the boundary. */
+static int expect_x(const double p[3]) {
+    (void)p;
+    return PG_PLATES_TRANSFORM;
+}
+
+static void test_boundary_kinds(void **state) {
+    (void)state;
+    double z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    double sz = two_plate_score(z, expect_z), sx = two_plate_score(x, expect_x);
+    print_message("two hemispheres: %.3f right spinning apart about z, %.3f about x\n", sz, sx);
+    assert_true(sz >= 0.9);
+    assert_true(sx >= 0.9);
+    pg_plates_params p;
+    pg_plates_params_default(&p);
+    pg_plates_world w;
+    gen(&p, &w);
+    int64_t kinds[4] = {0};
+    for (int64_t t = 0; t < count(&w); t++)
+        kinds[w.boundary[t] & 3]++;
+    print_message("default seed 1: boundary texels convergent %lld, divergent %lld, "
+                  "transform %lld\n",
+                  (long long)kinds[1], (long long)kinds[2], (long long)kinds[3]);
+    assert_true(kinds[1] > 0 && kinds[2] > 0 && kinds[3] > 0);
+    pg_plates_world_free(&w);
+}
+
+static void test_land_fraction(void **state) {
+    (void)state;
+    const double want[3] = {0.15, 0.29, 0.5};
+    for (int i = 0; i < 3; i++) {
+        pg_plates_params p;
+        pg_plates_params_default(&p);
+        p.land_fraction = want[i];
+        pg_plates_world w;
+        gen(&p, &w);
+        pg_plates_stats s;
+        pg_error err = {0};
+        assert_int_equal(pg_plates_stats_compute(&w, &s, &err), PG_OK);
+        print_message("land_fraction %.2f -> %.4f\n", want[i], s.land_fraction);
+        assert_true(fabs(s.land_fraction - want[i]) <= 0.01);
+        pg_plates_world_free(&w);
+    }
+}
+
+static void test_macro_structure(void **state) {
+    (void)state;
+    int shaped = 0, belts = 0, ocean = 0, land = 0;
+    for (uint64_t seed = 1; seed <= 8; seed++) {
+        pg_plates_params p;
+        pg_plates_params_default(&p);
+        p.seed = seed;
+        pg_plates_world w;
+        gen(&p, &w);
+        pg_plates_stats s;
+        pg_error err = {0};
+        assert_int_equal(pg_plates_stats_compute(&w, &s, &err), PG_OK);
+        print_message("seed %llu: largest landmass %.3f of land, %d landmasses >= 1e6 km2, "
+                      "mountain belt %.3f (high land %.3f of land), ocean depth %.0f m, "
+                      "land mean %.0f m, largest plate %.3f\n",
+                      (unsigned long long)seed, s.largest_land_share, s.landmasses_1e6km2,
+                      s.mountain_belt_share, s.high_land_fraction, s.ocean_mean_depth_m,
+                      s.land_mean_m, s.largest_plate_share);
+        shaped += s.largest_land_share >= 0.25 && s.landmasses_1e6km2 >= 3;
+        belts += s.mountain_belt_share >= 0.7;
+        ocean += s.ocean_mean_depth_m >= 3000 && s.ocean_mean_depth_m <= 4500;
+        land += s.land_mean_m >= 300 && s.land_mean_m <= 1500;
+        pg_plates_world_free(&w);
+    }
+    print_message("of 8 seeds: %d continental shape, %d mountain belts, %d ocean depth, "
+                  "%d land height\n",
+                  shaped, belts, ocean, land);
+    assert_true(shaped >= 7);
+    assert_true(belts == 8);
+    assert_true(ocean == 8);
+    assert_true(land == 8);
+}
+
+static void test_render(void **state) {
+    (void)state;
+    pg_plates_params p;
+    pg_plates_params_default(&p);
+    const char *env = getenv("PG_PLATES_SEED");
+    if (env) p.seed = strtoull(env, NULL, 10);
+    pg_plates_world w;
+    gen(&p, &w);
+    char dir[1024], path[1200];
+    pg_test_scratch_dir("plates", dir, sizeof dir);
+    pg_image img = {0};
+    pg_error err = {0};
+    assert_int_equal(pg_plates_render_plates(&w, 1024, &img, &err), PG_OK);
+    snprintf(path, sizeof path, "%s/plates.png", dir);
+    assert_int_equal(pg_image_write_png(path, &img, 8, &err), PG_OK);
+    assert_true(pg_test_file_nonempty(path));
+    pg_image_free(&img);
+    assert_int_equal(pg_plates_render_relief(&w, 1024, &img, &err), PG_OK);
+    snprintf(path, sizeof path, "%s/relief.png", dir);
+    assert_int_equal(pg_image_write_png(path, &img, 8, &err), PG_OK);
+    assert_true(pg_test_file_nonempty(path));
+    print_message("previews in %s\n", dir);
+    pg_image_free(&img);
+    pg_plates_world_free(&w);
+}
+
+static void test_bad_input(void **state) {
+    (void)state;
+    pg_plates_params p;
+    pg_plates_world w;
+    pg_error err = {0};
+    pg_plates_world_init(&w);
+    pg_plates_params_default(&p);
+    p.plates = 1;
+    assert_int_equal(pg_plates_generate(&p, &w, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "plates"));
+    pg_plates_params_default(&p);
+    p.plates = 65;
+    pg_error_clear(&err);
+    assert_int_equal(pg_plates_generate(&p, &w, &err), PG_ERR_BADINPUT);
+    pg_plates_params_default(&p);
+    p.land_fraction = 1;
+    pg_error_clear(&err);
+    assert_int_equal(pg_plates_generate(&p, &w, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "land_fraction"));
+    assert_null(w.elevation_m);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bad_input),       cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_plate_areas),     cmocka_unit_test(test_boundary_kinds),
+        cmocka_unit_test(test_land_fraction),   cmocka_unit_test(test_render),
+        cmocka_unit_test(test_macro_structure),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
