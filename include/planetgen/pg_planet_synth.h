@@ -107,7 +107,37 @@ double pg_guide_weight(double alpha, int s_top, int scale);
 
 /* ---------------------------------- the driver ---------------------------------- */
 
-typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE } pg_planet_layout;
+typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE, PG_LAYOUT_WORLD } pg_planet_layout;
+
+/* ----------------------------------- layout world ----------------------------------- */
+
+/* The macro world that layout world amplifies (pg_plates.h, pg_climate.h): cube fields
+ * of 6*n*n floats in the default projection, caller-owned. The coarsest level starts
+ * from exemplar texels whose features (height, temperature, precipitation) match the
+ * world's (texture-by-numbers, Hertzmann et al. 2001), the elevation is the guide and the
+ * climate the type constraints (pg_planet_world_guide, pg_planet_world_types). */
+typedef struct pg_planet_world {
+    int64_t n;
+    const float *elevation_m;      /* relative to sea level */
+    const float *temperature_c;    /* annual mean */
+    const float *precipitation_mm; /* annual */
+} pg_planet_world;
+
+/* The world's elevation as an equirectangular guide of width x width/2 (pg_guide_free). */
+pg_status pg_planet_world_guide(const pg_planet_world *w, int width, pg_guide *out, pg_error *err);
+
+/* The world's climate as a type map of width x width/2 (pg_types_map_free): no ice where
+ * it is warm, no desert where it is wet, no forest or grass where it is ice. */
+pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_map *out,
+                                pg_error *err);
+
+/* The exemplar's own macro climate, the features layout world matches against: its
+ * heights averaged to n texels a face edge (n divides the face size; relative to its sea
+ * level) through the same climate model with Earth's parameters. out is initialised
+ * here (pg_climate_free). */
+struct pg_climate;
+pg_status pg_planet_world_exemplar_climate(const pg_synth_exemplar *ex, int64_t n,
+                                           struct pg_climate *out, pg_error *err);
 
 #define PG_PLANET_KEEP_AUTO (-1)     /* keep_levels by ground scale */
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
@@ -177,6 +207,9 @@ typedef struct pg_planet_synth_params {
 
     /* distribution (docs/mpi.md): NULL, this process synthesizes every tile */
     const pg_planet_synth_dist *dist;
+
+    /* layout world: the macro world (required there, NULL otherwise) */
+    const pg_planet_world *world;
 } pg_planet_synth_params;
 
 void pg_planet_synth_params_default(pg_planet_synth_params *p);

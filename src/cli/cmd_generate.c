@@ -33,8 +33,13 @@ typedef struct gen_inputs {
     pg_guide guide;
     pg_types_map types;
     uint8_t mask;
-    bool has_guide, has_types;
+    bool has_guide, has_types, has_world;
+    gen_world world; /* layout world: the macro world, its guide and type map */
 } gen_inputs;
+
+static bool is_world(const gen_args *a) {
+    return a->layout && !strcmp(a->layout, "world");
+}
 
 static int validate(pg_cli *cli, const gen_args *a) {
     long S = a->tile_size, need = 1L << (GEN_LEVELS - 1);
@@ -66,12 +71,27 @@ static pg_status load_inputs(const gen_args *a, gen_inputs *in, pg_error *err) {
         st = pg_types_map_load(a->types, &in->types, err);
         in->has_types = !st;
     }
+    gen_world_init(&in->world);
+    if (!st && is_world(a)) {
+        st = gen_world_build(a, &in->world, err);
+        in->has_world = !st;
+    }
     return st;
 }
 
 static void free_inputs(gen_inputs *in) {
     if (in->has_guide) pg_guide_free(&in->guide);
     if (in->has_types) pg_types_map_free(&in->types);
+    gen_world_free(&in->world);
+}
+
+/* layout world: the macro world, and its elevation and climate as the guide and the
+ * type map unless --guide or --types replace them */
+static void set_world(const gen_inputs *in, pg_planet_synth_params *p) {
+    p->layout = PG_LAYOUT_WORLD;
+    p->world = &in->world.world;
+    if (!p->guide) p->guide = &in->world.guide;
+    if (!p->types) p->types = &in->world.types;
 }
 
 static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
@@ -94,6 +114,7 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->final_pits = strcmp(a->final_pits, "none") != 0;
     if (p->final_pits) pg_pits_method_parse(a->final_pits, &p->final_method);
     p->independent_tiles = a->independent;
+    if (in->has_world) set_world(in, p);
 }
 
 /* --face-size, or by default the planet's own face size (pg_planet_synth_face_size). */
@@ -243,7 +264,16 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(pp, "tiles", (double)a->tiles);
     pg_json_set_number(pp, "tile_size", (double)a->tile_size);
     pg_json_set_number(pp, "seed", (double)a->seed);
-    pg_json_set_string(pp, "layout", p->layout == PG_LAYOUT_EARTH ? "earth" : "free");
+    pg_json_set_string(pp, "layout",
+                       p->layout == PG_LAYOUT_EARTH   ? "earth"
+                       : p->layout == PG_LAYOUT_WORLD ? "world"
+                                                      : "free");
+    if (p->layout == PG_LAYOUT_WORLD) {
+        pg_json_set_number(pp, "plates", (double)a->plates);
+        pg_json_set_number(pp, "land_fraction", a->land_fraction);
+        pg_json_set_number(pp, "axial_tilt_deg", a->axial_tilt);
+        pg_json_set_number(pp, "temperature_offset_K", a->temperature_offset);
+    }
     pg_json_set_number(pp, "keep_levels", sc->keep);
     pg_json_set_number(pp, "exemplar_face_size", sc->face);
     pg_json_set_number(pp, "jitter", p->synth.jitter);
@@ -349,6 +379,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
         path_ctx pc = {cli, a->outdir};
         st = pg_planet_save(&planet, gen_path_for, &pc, &err);
         pg_cli_stage_end(cli);
+        if (!st && in->has_world) st = gen_world_write(cli, a, &in->world, &err);
         if (!st) {
             pg_cli_stage_begin(cli, "write previews and globe");
             st = write_exports(cli, a, &planet, &err);
@@ -376,7 +407,11 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
                   .passes = 2,
                   .face_size = 0, /* auto */
                   .jitter = 0.4,
-                  .guide_weight = 0.8};
+                  .guide_weight = 0.8,
+                  .plates = 14,
+                  .land_fraction = 0.29,
+                  .axial_tilt = 23.4,
+                  .temperature_offset = 0};
     const pg_opt opts[] = {
         {"--output", "-o", PG_OPT_STRING, &a.outdir, 0, 0, NULL, "DIR",
          "planet directory (default: planet)"},
@@ -384,9 +419,18 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 1, 1 << 20, NULL, "S",
          "texels per tile edge, a power of two, multiple of 32 (256)"},
         {"--seed", NULL, PG_OPT_INT, &a.seed, 0, 9007199254740992.0, NULL, "N", "random seed (1)"},
-        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "earth|free", "L",
-         "earth: continents where Earth has them; free: a new arrangement (default earth, or "
-         "free with --guide)"},
+        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "earth|free|world", "L",
+         "earth: continents where Earth has them; free: a new arrangement; world: a new "
+         "Earth-like planet from plate tectonics and climate, amplified by example (default "
+         "earth, or free with --guide)"},
+        {"--plates", NULL, PG_OPT_INT, &a.plates, PG_PLATES_MIN, PG_PLATES_MAX, NULL, "N",
+         "layout world: tectonic plates (14)"},
+        {"--land-fraction", NULL, PG_OPT_DOUBLE, &a.land_fraction, 0.05, 0.95, NULL, "F",
+         "layout world: share of the surface above sea level (0.29)"},
+        {"--axial-tilt", NULL, PG_OPT_DOUBLE, &a.axial_tilt, 0, 90, NULL, "DEG",
+         "layout world: axial tilt in degrees (23.4)"},
+        {"--temperature-offset", NULL, PG_OPT_DOUBLE, &a.temperature_offset, -40, 40, NULL, "K",
+         "layout world: added to every temperature, ice age < 0 < hothouse (0)"},
         {"--keep-levels", NULL, PG_OPT_INT, &a.keep_levels, 0, 64, NULL, "K",
          "layout earth: coarsest levels kept without jitter (default: those at least 1/32 "
          "of a face apart: 2 for an exemplar face of 512, 1 for 1024 and up)"},

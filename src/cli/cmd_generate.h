@@ -10,6 +10,9 @@
 #include "planetgen/pg_mpi.h"
 #include "planetgen/pg_planet.h"
 #include "planetgen/pg_synth.h"
+#include "planetgen/pg_climate.h"
+#include "planetgen/pg_planet_synth.h"
+#include "planetgen/pg_plates.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -20,6 +23,8 @@ typedef struct gen_args {
     pg_cli_exemplar in;
     long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
     double jitter, guide_weight, max_memory_gb;
+    long plates;                                          /* layout world */
+    double land_fraction, axial_tilt, temperature_offset; /* layout world */
     bool no_cache, independent, no_glb;
 } gen_args;
 
@@ -43,6 +48,24 @@ pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_syn
                                char *src_name, size_t name_size, pg_error *err);
 /* The staged path of output `name` in the path_ctx `user`. */
 const char *gen_path_for(const char *name, void *user);
+
+/* ---- cmd_generate_world.c ---- */
+
+/* Layout world's macro world and the controls made from it. */
+typedef struct gen_world {
+    pg_plates_world plates;
+    pg_climate climate;
+    pg_planet_world world; /* views into plates and climate */
+    pg_guide guide;
+    pg_types_map types;
+} gen_world;
+
+void gen_world_init(gen_world *w);
+void gen_world_free(gen_world *w);
+/* Plates and climate from the options (seed, plates, land fraction, tilt, offset). */
+pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err);
+/* plates.png, climate.png and world.exr into the planet directory. */
+pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg_error *err);
 
 /* ---- cmd_generate_mpi.c ---- */
 

@@ -43,6 +43,8 @@ static void ctx_free(pg_ps_ctx *c) {
         free(c->valid[t]);
     free(c->mask);
     free(c->guide);
+    free(c->world_t);
+    free(c->world_p);
 }
 
 static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
@@ -71,7 +73,8 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
         return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
     for (int s = 0; s <= c->s_top; s++)
         c->work_total += 1.0 / ((double)(1 << s) * (1 << s));
-    return pg_ps_types_setup(c, err);
+    pg_status st = pg_ps_types_setup(c, err);
+    return st ? st : pg_ps_world_setup(c, err);
 }
 
 /* ------------------------------------- the pyramid ------------------------------------- */

@@ -6,7 +6,8 @@
  * The files: pg_planet_synth.c (the driver: context, pyramid, delivery order),
  * pg_planet_synth_params.c (defaults, sizing, checks), pg_planet_synth_level.c (level
  * storage, face borders, the per-tile level operations), pg_planet_synth_types.c (type
- * constraints), pg_planet_synth_guide.c (guide), pg_planet_synth_pits.c (Gain-pit in the
+ * constraints), pg_planet_synth_guide.c (guide), pg_planet_synth_world.c (layout world's
+ * coarsest level), pg_planet_synth_pits.c (Gain-pit in the
  * pyramid, the final pass and the depression counts), pg_planet_synth_deliver.c
  * (magnification and the delivered planet). */
 #ifndef PG_PLANET_SYNTH_INTERNAL_H
@@ -53,6 +54,8 @@ typedef struct pg_ps_ctx {
     uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
     /* guide */
     float *guide; /* per level texel, metres */
+    /* layout world: the exemplar's own coarse climate (pg_planet_synth_world.c) */
+    float *world_t, *world_p;
     pg_planet_synth_info *info;
     double work_done, work_total;
 } pg_ps_ctx;
@@ -124,6 +127,11 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
 
 pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err);
 void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc);
+
+/* --------------------------- pg_planet_synth_world.c --------------------------- */
+
+pg_status pg_ps_world_setup(pg_ps_ctx *c, pg_error *err);
+uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y);
 
 /* --------------------------- pg_planet_synth_pits.c ---------------------------- */
 

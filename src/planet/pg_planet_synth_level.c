@@ -95,7 +95,8 @@ static uint32_t exemplar_at_direction(const pg_synth_exemplar *ex, int r, int f,
     return pg_synth_pack(f, u, v);
 }
 
-/* Coarsest level: the exemplar at the same direction (layout earth), else hashed
+/* Coarsest level: the exemplar at the same direction (layout earth), the best feature
+ * match with the macro world (layout world, pg_planet_synth_world.c), else hashed
  * random texels; with a guide, the best of 16 hashed draws by level height. */
 void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L) {
     const pg_synth_exemplar *ex = c->ex;
@@ -108,6 +109,8 @@ void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L) {
             uint32_t q;
             if (c->p->layout == PG_LAYOUT_EARTH) {
                 q = exemplar_at_direction(ex, r, f, x, y);
+            } else if (c->p->layout == PG_LAYOUT_WORLD) {
+                q = pg_ps_world_pick(c, r, f, x, y);
             } else {
                 int ndraw = c->guide ? 16 : 1;
                 float g = c->guide ? c->guide[((size_t)f * r + y) * r + x] : 0, best = INFINITY;

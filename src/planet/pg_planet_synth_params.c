@@ -109,6 +109,10 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
     if (!(p->guide_alpha >= 0 && p->guide_alpha <= 1))
         return pg_error_set(err, PG_ERR_BADINPUT, "--guide-weight %g: must be in [0, 1]",
                             p->guide_alpha);
+    if (p->layout == PG_LAYOUT_WORLD &&
+        (!p->world || !p->world->elevation_m || !p->world->temperature_c ||
+         !p->world->precipitation_mm || p->world->n < 1))
+        return pg_error_set(err, PG_ERR_BADINPUT, "--layout world: no macro world");
     if (!(p->type_mask & PG_TYPES_ALL))
         return pg_error_set(err, PG_ERR_BADINPUT, "types: no type allowed");
     return PG_OK;

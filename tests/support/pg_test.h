@@ -28,4 +28,13 @@ int pg_test_count_files(const char *dir);
 /* Does the file exist and have size > 0? */
 int pg_test_file_nonempty(const char *path);
 
+/* The default exemplar (pg_exemplar_opts_default) prepared with the default parameters,
+ * through the cache PG_BUILD_DIR/synth-cache; NULL (the reason on stderr) on failure.
+ * Free with pg_synth_exemplar_free. */
+struct pg_synth_exemplar;
+struct pg_synth_exemplar *pg_test_default_exemplar(void);
+
+/* The number after "key": at or after `from` in a JSON text; NaN when absent or null. */
+double pg_test_json_number(const char *from, const char *key);
+
 #endif

@@ -1,0 +1,96 @@
+/* cmd_generate_world.c - `planetgen generate --layout world`: the macro world that the
+ * synthesis amplifies by example (docs/generate.md, "Layout world"). Plates (pg_plates.h,
+ * after Cortial et al. 2019) give the elevation, the climate model (pg_climate.h) its
+ * temperature and precipitation; the planet module turns them into the guide and the type
+ * map (pg_planet_world_guide, pg_planet_world_types). The macro fields are written into
+ * the planet directory: plates.png, climate.png and world.exr (one part per cube face,
+ * channels elevation_m, temperature_c, precipitation_mm, convergent_km). */
+#include "cmd_generate.h"
+
+#include "planetgen/pg_exr.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define GEN_WORLD_N 64           /* macro texels per face edge (about 140 km) */
+#define GEN_WORLD_MAP_WIDTH 1024 /* the guide and type map, equirectangular */
+#define GEN_WORLD_PREVIEW_WIDTH 1024
+
+void gen_world_init(gen_world *w) {
+    memset(w, 0, sizeof *w);
+    pg_plates_world_init(&w->plates);
+    pg_climate_init(&w->climate);
+}
+
+void gen_world_free(gen_world *w) {
+    pg_plates_world_free(&w->plates);
+    pg_climate_free(&w->climate);
+    pg_guide_free(&w->guide);
+    pg_types_map_free(&w->types);
+}
+
+pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
+    pg_plates_params pp;
+    pg_plates_params_default(&pp);
+    pp.seed = (uint64_t)a->seed;
+    pp.n = GEN_WORLD_N;
+    pp.plates = (int)a->plates;
+    pp.land_fraction = a->land_fraction;
+    pg_status st = pg_plates_generate(&pp, &w->plates, err);
+    pg_climate_params cp;
+    pg_climate_params_default(&cp);
+    cp.axial_tilt_deg = a->axial_tilt;
+    cp.temperature_offset_K = a->temperature_offset;
+    if (!st)
+        st = pg_climate_compute(&cp, w->plates.proj, w->plates.n, w->plates.elevation_m,
+                                &w->climate, err);
+    w->world = (pg_planet_world){w->plates.n, w->plates.elevation_m, w->climate.temperature_c,
+                                 w->climate.precipitation_mm};
+    if (!st) st = pg_planet_world_guide(&w->world, GEN_WORLD_MAP_WIDTH, &w->guide, err);
+    if (!st) st = pg_planet_world_types(&w->world, GEN_WORLD_MAP_WIDTH, &w->types, err);
+    return st;
+}
+
+static pg_status write_png(pg_cli *cli, const char *dir, const char *name, pg_image *img,
+                           pg_status st, pg_error *err) {
+    if (!st) st = pg_image_write_png(pg_cli_output_path(cli, dir, name), img, 8, err);
+    pg_image_free(img);
+    return st;
+}
+
+static pg_status write_exr(pg_cli *cli, const char *dir, const gen_world *w, pg_error *err) {
+    const int64_t n = w->plates.n;
+    const size_t nn = (size_t)n * n;
+    const float *src[4] = {w->plates.elevation_m, w->climate.temperature_c,
+                           w->climate.precipitation_mm, w->plates.convergent_km};
+    const char *channels[4] = {"elevation_m", "temperature_c", "precipitation_mm", "convergent_km"};
+    pg_image parts[PG_CUBE_NFACES];
+    const char *names[PG_CUBE_NFACES];
+    memset(parts, 0, sizeof parts);
+    pg_status st = PG_OK;
+    for (int f = 0; f < PG_CUBE_NFACES && !st; f++) {
+        names[f] = pg_cube_face_name(f);
+        st = pg_image_alloc(&parts[f], (int)n, (int)n, 4, err);
+        for (size_t i = 0; !st && i < nn; i++)
+            for (int k = 0; k < 4; k++)
+                parts[f].data[i * 4 + k] = src[k][(size_t)f * nn + i];
+    }
+    if (!st)
+        st = pg_exr_write_parts(pg_cli_output_path(cli, dir, "world.exr"), PG_CUBE_NFACES, names,
+                                parts, channels, err);
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        pg_image_free(&parts[f]);
+    return st;
+}
+
+pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg_error *err) {
+    pg_image img = {0};
+    pg_status st = pg_plates_render_plates(&w->plates, GEN_WORLD_PREVIEW_WIDTH, &img, err);
+    st = write_png(cli, a->outdir, "plates.png", &img, st, err);
+    if (!st) {
+        st = pg_climate_render_preview(&w->climate, w->plates.elevation_m, GEN_WORLD_PREVIEW_WIDTH,
+                                       &img, err);
+        st = write_png(cli, a->outdir, "climate.png", &img, st, err);
+    }
+    return st ? st : write_exr(cli, a->outdir, w, err);
+}

@@ -1,0 +1,123 @@
+/* pg_planet_synth_world.c - layout world's coarsest level by texture-by-numbers (Hertzmann,
+ * Jacobs, Oliver, Curless and Salesin 2001, "Image Analogies", §4.3): every texel of the
+ * coarsest level takes the exemplar texel whose features best match the macro world's
+ * there (docs/generate.md, "Layout world").
+ *
+ * FEATURES. The target's come from the macro world (pg_planet_world: plate elevation and
+ * its climate), averaged over the block of world texels a level texel covers. The
+ * exemplar's are its own level height and the climate the SAME model (pg_climate.h,
+ * Earth's parameters) computes on its relief averaged to a coarse cube of
+ * PS_WORLD_EXEMPLAR_N texels a face edge, so both sides are described alike.
+ *
+ * THE MATCH. 256 candidates are hashed draws of (seed, level, face, x, y, k); the one with
+ * the least distance
+ *   4 [land differs] + 2 [ice differs] + (dh / 1500 m)^2 + (dT / 6 K)^2
+ *     + ((sqrt P_e - sqrt P_t) / 10)^2
+ * wins (the first on ties), so the choice is deterministic and independent of threads. */
+#include "pg_planet_synth_internal.h"
+
+#include "planetgen/pg_climate.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PS_WORLD_EXEMPLAR_N 64
+#define PS_WORLD_DRAWS 256
+
+/* The exemplar's coarse relief (metres above its sea level): block means of its heights. */
+static float *exemplar_relief(const pg_synth_exemplar *ex, int64_t n) {
+    const int E = ex->face_size, b = E / (int)n;
+    float *h = malloc((size_t)6 * n * n * sizeof *h);
+    if (!h) return NULL;
+#pragma omp parallel for schedule(static)
+    for (int64_t id = 0; id < 6 * n * n; id++) {
+        int f = (int)(id / (n * n)), y = (int)(id / n % n), x = (int)(id % n);
+        double s = 0;
+        for (int v = y * b; v < (y + 1) * b; v++)
+            for (int u = x * b; u < (x + 1) * b; u++)
+                s += ex->height[((size_t)f * E + v) * E + u];
+        h[id] = (float)(s / ((double)b * b) - ex->sea_level);
+    }
+    return h;
+}
+
+pg_status pg_planet_world_exemplar_climate(const pg_synth_exemplar *ex, int64_t n, pg_climate *out,
+                                           pg_error *err) {
+    pg_climate_init(out);
+    if (ex->nfaces != 6 || n < 1 || ex->face_size % n)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "layout world: needs a cube exemplar whose face size %lld divides",
+                            (long long)n);
+    float *h = exemplar_relief(ex, n);
+    if (!h) return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    pg_climate_params cp;
+    pg_climate_params_default(&cp);
+    pg_status st = pg_climate_compute(&cp, PG_CUBE_DEFAULT_PROJECTION, n, h, out, err);
+    free(h);
+    return st;
+}
+
+pg_status pg_ps_world_setup(pg_ps_ctx *c, pg_error *err) {
+    if (c->p->layout != PG_LAYOUT_WORLD) return PG_OK;
+    pg_climate cl;
+    pg_status st = pg_planet_world_exemplar_climate(c->ex, PS_WORLD_EXEMPLAR_N, &cl, err);
+    if (!st) {
+        c->world_t = cl.temperature_c, c->world_p = cl.precipitation_mm;
+        cl.temperature_c = cl.precipitation_mm = NULL;
+    }
+    pg_climate_free(&cl);
+    return st;
+}
+
+typedef struct ps_feat {
+    float h, t, p;
+} ps_feat;
+
+/* The macro world averaged over the block level texel (f, x, y) of r covers. */
+static ps_feat target(const pg_planet_world *w, int r, int f, int x, int y) {
+    const int64_t n = w->n;
+    int64_t x0 = (int64_t)x * n / r, x1 = ((int64_t)x + 1) * n / r;
+    int64_t y0 = (int64_t)y * n / r, y1 = ((int64_t)y + 1) * n / r;
+    if (x1 <= x0) x1 = x0 + 1;
+    if (y1 <= y0) y1 = y0 + 1;
+    double s[3] = {0, 0, 0};
+    for (int64_t j = y0; j < y1; j++)
+        for (int64_t i = x0; i < x1; i++) {
+            size_t id = ((size_t)f * n + j) * n + i;
+            s[0] += w->elevation_m[id], s[1] += w->temperature_c[id];
+            s[2] += w->precipitation_mm[id];
+        }
+    double k = (double)(x1 - x0) * (y1 - y0);
+    ps_feat t = {(float)(s[0] / k), (float)(s[1] / k), (float)(s[2] / k)};
+    return t;
+}
+
+static double distance(ps_feat e, ps_feat t) {
+    double d =
+        4.0 * ((e.h > 0) != (t.h > 0)) + 2.0 * (pg_climate_is_ice(e.t) != pg_climate_is_ice(t.t));
+    double dh = (e.h - t.h) / 1500.0, dt = (e.t - t.t) / 6.0,
+           dp = (sqrt(fmax(e.p, 0)) - sqrt(fmax(t.p, 0))) / 10.0;
+    return d + dh * dh + dt * dt + dp * dp;
+}
+
+uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y) {
+    const pg_synth_exemplar *ex = c->ex;
+    const int E = ex->face_size, b = E / PS_WORLD_EXEMPLAR_N, s = c->s_top;
+    const uint64_t seed = c->p->synth.seed;
+    const ps_feat t = target(c->p->world, r, f, x, y);
+    double best = INFINITY;
+    uint32_t q = 0;
+    for (int k = 0; k < PS_WORLD_DRAWS; k++) {
+        uint32_t a = pg_synth_hash(seed, s, f, x, y, 64 + 2 * k);
+        uint32_t bb = pg_synth_hash(seed, s, f, x, y, 65 + 2 * k);
+        int ef = (int)(a % 6u), u = (int)((a >> 3) % (uint32_t)E), v = (int)(bb % (uint32_t)E);
+        size_t ci = ((size_t)ef * PS_WORLD_EXEMPLAR_N + v / b) * PS_WORLD_EXEMPLAR_N + u / b;
+        uint32_t cand = pg_synth_pack(ef, u, v);
+        ps_feat e = {pg_synth_level_height(ex, s, cand) - ex->sea_level, c->world_t[ci],
+                     c->world_p[ci]};
+        double d = distance(e, t);
+        if (d < best) best = d, q = cand;
+    }
+    return q;
+}
