@@ -5,7 +5,8 @@
  *  - one small planet end to end: the macro fields are in the planet directory, and the
  *    realism report (planetgen inspect --json) shows the land where the plates put it
  *    (land fraction within 0.03 of --land-fraction), no copy of Earth (earth_copy_fraction
- *    <= 0.05), ice at the poles and not at the equator, no depression;
+ *    <= 0.05), ice at the poles and not at the equator, no depression, and a
+ *    mountain_belt_fraction from world.exr;
  *  - guidance through the library: a two-zone macro world (one hemisphere cold, the other
  *    hot) gets at least 90% of its material from exemplar texels of the matching zone of
  *    Earth's own climate (the same climate model on Earth's relief). */
@@ -97,6 +98,7 @@ static void test_small_world(void **state) {
     assert_true(ieq <= 0.01);
     assert_true(ipol >= 0.5 * epol);
     assert_true(dep == 0);
+    assert_true(isfinite(belt)); /* the macro world's world.exr is read */
 }
 
 /* ---- guidance through the library ---- */

@@ -208,6 +208,15 @@ pg_inspect_fid_exemplar *pg_inspect_fid_exemplar_load(const char *path, uint64_t
 pg_status pg_inspect_fidelity_with(const pg_planet *p, const pg_inspect_fid_exemplar *fx,
                                    pg_inspect_fidelity *out, pg_error *err);
 
+/* ---- mountain belts ---- */
+
+/* mountain_belt_fraction: the area share of non-ice land above 2000 m that lies within
+ * 500 km of a convergent plate boundary, read from the convergent_km channel of the
+ * macro world file world_exr (`generate --layout world`); NaN when the file is absent
+ * or there is no such land (pg_inspect_belts.c). */
+pg_status pg_inspect_mountain_belts(const pg_planet *p, const char *world_exr, double *fraction,
+                                    pg_error *err);
+
 /* ---- depressions ---- */
 
 /* pg_pits_stats_compute on the planet's heights over the whole cube sphere, sinks at

@@ -28,6 +28,10 @@
 #define GEN_SOURCE_BYTES 4e8               /* the loaded source images */
 #define GEN_BYTES_PER_EXEMPLAR_TEXEL 200.0 /* preparing the exemplar cube, at its peak */
 #define GEN_MAP_BYTES_PER_TEXEL 4.0        /* the coordinate map (source.exr) */
+#define GEN_GUIDE_WEIGHT 0.8               /* --guide-weight's default */
+/* layout world's: the plates' belts and coasts hold through the pyramid (at 0.8, a
+ * quarter less of the high land lay in the belts, docs/generate.md) */
+#define GEN_WORLD_GUIDE_WEIGHT 1.0
 
 typedef struct gen_inputs {
     pg_guide guide;
@@ -87,8 +91,9 @@ static void free_inputs(gen_inputs *in) {
 
 /* layout world: the macro world, and its elevation and climate as the guide and the
  * type map unless --guide or --types replace them */
-static void set_world(const gen_inputs *in, pg_planet_synth_params *p) {
+static void set_world(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
     p->layout = PG_LAYOUT_WORLD;
+    if (a->guide_weight < 0) p->guide_alpha = GEN_WORLD_GUIDE_WEIGHT;
     p->world = &in->world.world;
     if (!p->guide) p->guide = &in->world.guide;
     if (!p->types) p->types = &in->world.types;
@@ -106,7 +111,7 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
                           : (a->guide ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH);
     p->keep_levels = (int)a->keep_levels;
     p->guide = in->has_guide ? &in->guide : NULL;
-    p->guide_alpha = a->guide_weight;
+    p->guide_alpha = a->guide_weight >= 0 ? a->guide_weight : GEN_GUIDE_WEIGHT;
     p->type_mask = in->mask;
     p->types = in->has_types ? &in->types : NULL;
     p->pits = strcmp(a->pits, "off") != 0;
@@ -114,7 +119,7 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->final_pits = strcmp(a->final_pits, "none") != 0;
     if (p->final_pits) pg_pits_method_parse(a->final_pits, &p->final_method);
     p->independent_tiles = a->independent;
-    if (in->has_world) set_world(in, p);
+    if (in->has_world) set_world(a, in, p);
 }
 
 /* --face-size, or by default the planet's own face size (pg_planet_synth_face_size). */
@@ -220,7 +225,7 @@ typedef struct gen_scale {
 
 static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
                    const pg_synth_prep_info *pi, const pg_planet_synth_info *si, double need,
-                   const pg_inspect_seams *seams, const gen_scale *sc) {
+                   const pg_inspect_seams *seams, const gen_scale *sc, const gen_world *w) {
     const int mag = sc->mag;
     double mpx = 6.0 * (double)a->tiles * a->tiles * a->tile_size * a->tile_size / 1e6;
     pg_cli_info(cli, "exemplar 6 x %d^2, %s in %.2f s\n", sc->face,
@@ -259,6 +264,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
                            pg_pits_method_citation(p->final_method));
     }
     pg_json *r = pg_cli_report(cli);
+    if (w && !r) gen_world_report(cli, w, NULL);
     if (!r) return;
     pg_json *pp = pg_json_set_object(r, "parameters");
     pg_json_set_number(pp, "tiles", (double)a->tiles);
@@ -286,6 +292,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(pp, "pit_skip_levels", p->pit_skip_levels);
     pg_json_set_string(pp, "final_pits", a->final_pits);
     pg_json *res = pg_json_set_object(r, "results");
+    if (w) gen_world_report(cli, w, res);
     pg_json_set_number(res, "megapixels", mpx);
     pg_json_set_number(res, "exemplar_prep_seconds", pi->seconds);
     pg_json_set_bool(res, "exemplar_from_cache", pi->from_cache);
@@ -390,7 +397,8 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_planet_free(&planet);
     if (rc) return rc;
     if (g->mpi) gen_report_mpi(cli, g, si.s_top);
-    report(cli, a, &p, &pi, &si, need, g->mpi ? NULL : &seams, &sc);
+    report(cli, a, &p, &pi, &si, need, g->mpi ? NULL : &seams, &sc,
+           in->has_world ? &in->world : NULL);
     return pg_cli_finish(cli);
 }
 
@@ -407,7 +415,7 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
                   .passes = 2,
                   .face_size = 0, /* auto */
                   .jitter = 0.4,
-                  .guide_weight = 0.8,
+                  .guide_weight = -1, /* auto: GEN_GUIDE_WEIGHT, or 1 for layout world */
                   .plates = 14,
                   .land_fraction = 0.29,
                   .axial_tilt = 23.4,
@@ -437,7 +445,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--guide", NULL, PG_OPT_STRING, &a.guide, 0, 0, NULL, "PNG",
          "equirectangular grey elevation sketch, white high, black low (soft constraint)"},
         {"--guide-weight", NULL, PG_OPT_DOUBLE, &a.guide_weight, 0, 1, NULL, "A",
-         "guide blend weight at the coarsest level, halving per finer level (0.8)"},
+         "guide blend weight at the coarsest level, halving per finer level (0.8; 1 with "
+         "--layout world)"},
         {"--types", NULL, PG_OPT_STRING, &a.types, 0, 0, NULL, "PNG",
          "equirectangular type map: ocean #0000ff ice #ffffff desert #ffff00 grass #00ff00 "
          "forest #008000 mountain #808080 any #000000"},

@@ -58,12 +58,16 @@ typedef struct gen_world {
     pg_planet_world world; /* views into plates and climate */
     pg_guide guide;
     pg_types_map types;
+    pg_plates_stats stats; /* of the plates' world */
 } gen_world;
 
 void gen_world_init(gen_world *w);
 void gen_world_free(gen_world *w);
 /* Plates and climate from the options (seed, plates, land fraction, tilt, offset). */
 pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err);
+/* The plates' own figures: a line of the report, and "world" in res (may be NULL). */
+struct pg_json;
+void gen_world_report(pg_cli *cli, const gen_world *w, struct pg_json *res);
 /* plates.png, climate.png and world.exr into the planet directory. */
 pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg_error *err);
 

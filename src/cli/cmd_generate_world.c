@@ -8,6 +8,7 @@
 #include "cmd_generate.h"
 
 #include "planetgen/pg_exr.h"
+#include "planetgen/pg_json.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +38,7 @@ pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
     pp.plates = (int)a->plates;
     pp.land_fraction = a->land_fraction;
     pg_status st = pg_plates_generate(&pp, &w->plates, err);
+    if (!st) st = pg_plates_stats_compute(&w->plates, &w->stats, err);
     pg_climate_params cp;
     pg_climate_params_default(&cp);
     cp.axial_tilt_deg = a->axial_tilt;
@@ -81,6 +83,22 @@ static pg_status write_exr(pg_cli *cli, const char *dir, const gen_world *w, pg_
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         pg_image_free(&parts[f]);
     return st;
+}
+
+void gen_world_report(pg_cli *cli, const gen_world *w, pg_json *res) {
+    const pg_plates_stats *s = &w->stats;
+    pg_cli_info(cli,
+                "world    plates: land %.3f, largest landmass %.2f of land, %d landmasses >= "
+                "1e6 km2, high land in belts %.2f\n",
+                s->land_fraction, s->largest_land_share, s->landmasses_1e6km2,
+                s->mountain_belt_share);
+    if (!res) return;
+    pg_json *o = pg_json_set_object(res, "world");
+    pg_json_set_number(o, "land_fraction", s->land_fraction);
+    pg_json_set_number(o, "largest_landmass_share", s->largest_land_share);
+    pg_json_set_number(o, "landmasses_1e6", s->landmasses_1e6km2);
+    pg_json_set_number(o, "mountain_belt_share", s->mountain_belt_share);
+    pg_json_set_number(o, "high_land_fraction", s->high_land_fraction);
 }
 
 pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg_error *err) {

@@ -31,7 +31,8 @@ typedef struct inspect_figures {
     pg_inspect_distortion dist;
     pg_cube_distortion grid;
     pg_inspect_poles poles;
-    float *acc; /* drainage accumulation, km^2 */
+    float *acc;                    /* drainage accumulation, km^2 */
+    double mountain_belt_fraction; /* NaN without the macro world (world.exr) */
 } inspect_figures;
 
 /* Largest view size: 18 views of 16 bytes per pixel plus the supersampled buffers take
@@ -113,6 +114,9 @@ static pg_status compute_figures(pg_cli *cli, const inspect_args *a, const pg_pl
     st = pg_realism_planet(p, ex, fx, &fig->earth, on_stage, &pc, &fig->planet, &fig->acc,
                            &fig->dist, err);
     pg_inspect_fid_exemplar_free(fx);
+    char world[4200];
+    snprintf(world, sizeof world, "%s/world.exr", a->planet_dir);
+    if (st == PG_OK) st = pg_inspect_mountain_belts(p, world, &fig->mountain_belt_fraction, err);
     if (st != PG_OK) return st;
     st = pg_cube_distortion_compute(p->projection, p->n, &p->ellipsoid, &fig->grid, err);
     if (st != PG_OK) return st;
@@ -227,7 +231,7 @@ static void print_geometry(pg_cli *cli, const pg_realism *P, const pg_realism *E
     pg_cli_info(cli, "  %-26s %s\n", "", note);
 }
 
-static void print_earthlike(pg_cli *cli, const pg_realism *P, const pg_realism *E) {
+static void print_earthlike(pg_cli *cli, const pg_realism *P, const pg_realism *E, double belts) {
     const pg_earthlike *p = &P->earthlike, *e = &E->earthlike;
     char note[160];
     pg_cli_info(cli, "Earth-likeness (area-weighted):\n");
@@ -246,6 +250,8 @@ static void print_earthlike(pg_cli *cli, const pg_realism *P, const pg_realism *
         "ice share of land poleward of 66 deg");
     row(cli, "desert_band_ratio", p->desert_band_ratio, e->desert_band_ratio,
         "desert share of land at 15-35 deg / within 10 deg");
+    row(cli, "mountain_belt_fraction", belts, NAN,
+        "share of non-ice land above 2000 m within 500 km of a convergent boundary");
     row(cli, "zonal correlation", P->zonal_correlation, E->zonal_correlation,
         "terrain-type fractions per 10-deg band, against Earth's");
     snprintf(note, sizeof note, "agreement with Earth at the same place %.3f, chance %.3f",
@@ -281,7 +287,7 @@ static void print_table(pg_cli *cli, const pg_planet *p, const inspect_figures *
                 f->earth_cached ? "cached" : "computed and cached");
     pg_cli_info(cli, "  %-26s %10s %10s  %s\n", "figure", "planet", "Earth", "gate");
     print_geometry(cli, &f->planet, &f->earth);
-    print_earthlike(cli, &f->planet, &f->earth);
+    print_earthlike(cli, &f->planet, &f->earth, f->mountain_belt_fraction);
     print_water(cli, &f->planet, &f->earth);
     pg_cli_info(cli,
                 "texture comparison with Earth at the same place (LPIPS-style, fixed Gabor "
@@ -427,6 +433,7 @@ static void report_json(pg_cli *cli, const inspect_args *a, const pg_planet *p,
     pg_json_set_number(par, "view_size", (double)a->view_size);
     pg_json_set_string(par, "views_dir", a->views_dir);
     json_keys(r, &f->planet);
+    pg_json_set_number(r, "mountain_belt_fraction", f->mountain_belt_fraction);
     json_keys(pg_json_set_object(r, "earth"), &f->earth);
     pg_json *g = pg_json_set_object(r, "gates");
     pg_json_set_number(g, "pole_distortion_ratio", PG_INSPECT_DISTORTION_GATE);

@@ -10,6 +10,8 @@
  *                              climate shows no forest, grass or desert, and its land
  *                              is an ice sheet, as Antarctica's and Greenland's)
  *   warm and P >= 1000 mm/yr   no desert (a wet climate never shows a sand sea)
+ *   elevation < 1000 m         no mountain (high ground only where the plates raised it:
+ *                              the belts along convergent boundaries and the plateaus)
  * Everything else allows every type. */
 #include "planetgen/pg_planet_synth.h"
 
@@ -21,6 +23,7 @@
 
 #define WORLD_WARM_MARGIN_K 8.0
 #define WORLD_WET_MM 1000.0
+#define WORLD_HIGH_M 1000.0
 
 static pg_status check_world(const pg_planet_world *w, int width, pg_error *err) {
     if (!w || w->n < 1 || !w->elevation_m || !w->temperature_c || !w->precipitation_mm)
@@ -45,10 +48,11 @@ pg_status pg_planet_world_guide(const pg_planet_world *w, int width, pg_guide *o
 }
 
 static uint8_t climate_mask(float h, float t, float p) {
-    const uint8_t bit_ice = 1u << PG_TYPE_ICE, bit_desert = 1u << PG_TYPE_DESERT;
-    if (t < PG_CLIMATE_ICE_C)
-        return (uint8_t)(bit_ice | (h > 0 ? 1u << PG_TYPE_MOUNTAIN : 1u << PG_TYPE_OCEAN));
-    uint8_t m = PG_TYPES_ALL;
+    const uint8_t bit_ice = 1u << PG_TYPE_ICE, bit_desert = 1u << PG_TYPE_DESERT,
+                  bit_mountain = 1u << PG_TYPE_MOUNTAIN;
+    const uint8_t high = h >= WORLD_HIGH_M ? bit_mountain : 0;
+    if (t < PG_CLIMATE_ICE_C) return (uint8_t)(bit_ice | (h > 0 ? high : 1u << PG_TYPE_OCEAN));
+    uint8_t m = (uint8_t)(PG_TYPES_ALL & ~bit_mountain) | high;
     if (t >= PG_CLIMATE_ICE_C + WORLD_WARM_MARGIN_K) m &= (uint8_t)~bit_ice;
     if (t >= 0 && p >= WORLD_WET_MM) m &= (uint8_t)~bit_desert;
     return m;
