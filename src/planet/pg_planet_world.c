@@ -9,10 +9,14 @@
  *   T <  PG_CLIMATE_ICE_C      on land ice or mountain only, at sea ice or ocean (an ice
  *                              climate shows no forest, grass or desert, and its land
  *                              is an ice sheet, as Antarctica's and Greenland's)
+ *   T <  PG_CLIMATE_ICE_C + 6  on land ice, grass (tundra) or mountain (and the sea at the
+ *                              coast): no forest or desert next to an ice sheet
+ *   elevation < -150 m         ocean (or sea ice) only; > 150 m: no ocean (land stays
+ *                              where the plates put it, the coasts are the exemplar's)
  *   warm and P >= 1000 mm/yr   no desert (a wet climate never shows a sand sea)
  *   elevation < 1000 m         no mountain (high ground only where the plates raised it:
  *                              the belts along convergent boundaries and the plateaus)
- * Everything else allows every type. */
+ * Everything else allows every type; a pixel the rules leave empty allows every type. */
 #include "planetgen/pg_planet_synth.h"
 
 #include "planetgen/pg_climate.h"
@@ -24,6 +28,8 @@
 #define WORLD_WARM_MARGIN_K 8.0
 #define WORLD_WET_MM 1000.0
 #define WORLD_HIGH_M 1000.0
+#define WORLD_TUNDRA_K 6.0
+#define WORLD_COAST_M 150.0
 
 static pg_status check_world(const pg_planet_world *w, int width, pg_error *err) {
     if (!w || w->n < 1 || !w->elevation_m || !w->temperature_c || !w->precipitation_mm)
@@ -49,13 +55,20 @@ pg_status pg_planet_world_guide(const pg_planet_world *w, int width, pg_guide *o
 
 static uint8_t climate_mask(float h, float t, float p) {
     const uint8_t bit_ice = 1u << PG_TYPE_ICE, bit_desert = 1u << PG_TYPE_DESERT,
-                  bit_mountain = 1u << PG_TYPE_MOUNTAIN;
+                  bit_mountain = 1u << PG_TYPE_MOUNTAIN, bit_ocean = 1u << PG_TYPE_OCEAN;
     const uint8_t high = h >= WORLD_HIGH_M ? bit_mountain : 0;
-    if (t < PG_CLIMATE_ICE_C) return (uint8_t)(bit_ice | (h > 0 ? high : 1u << PG_TYPE_OCEAN));
-    uint8_t m = (uint8_t)(PG_TYPES_ALL & ~bit_mountain) | high;
+    uint8_t m;
+    if (t < PG_CLIMATE_ICE_C)
+        m = (uint8_t)(bit_ice | (h > 0 ? high : bit_ocean));
+    else if (h > 0 && t < PG_CLIMATE_ICE_C + WORLD_TUNDRA_K)
+        m = (uint8_t)(bit_ice | (1u << PG_TYPE_GRASS) | high | bit_ocean);
+    else
+        m = (uint8_t)((PG_TYPES_ALL & ~bit_mountain) | high);
     if (t >= PG_CLIMATE_ICE_C + WORLD_WARM_MARGIN_K) m &= (uint8_t)~bit_ice;
     if (t >= 0 && p >= WORLD_WET_MM) m &= (uint8_t)~bit_desert;
-    return m;
+    if (h < -WORLD_COAST_M) m &= (uint8_t)(bit_ocean | bit_ice);
+    if (h > WORLD_COAST_M) m &= (uint8_t)~bit_ocean;
+    return m ? m : PG_TYPES_ALL;
 }
 
 pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_map *out,
