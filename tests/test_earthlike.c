@@ -6,7 +6,8 @@
  * hypsometry (Archimedes: z is uniform by area on a sphere, so h = c z has known
  * quantiles, moments and W1), zonal ice and desert figures, the zonal correlation,
  * thread-count independence, bad input; and novelty against the real exemplar: Earth
- * itself agrees with Earth, Earth turned 180 degrees in longitude agrees by chance. */
+ * itself agrees with Earth, Earth turned 180 degrees in longitude agrees by chance.
+ * Over 600 lines because one file holds every case of the module, each independent. */
 #include "pg_test.h"
 
 #include "pg_earthlike_internal.h"
