@@ -26,6 +26,7 @@
  * synthesized planets are checked through `planetgen inspect` in test_realism_e2e.c. */
 #include "pg_test.h"
 
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_inspect.h"
 #include "planetgen/pg_realism.h"
 #include "planetgen/pg_synth.h"

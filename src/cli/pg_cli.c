@@ -7,6 +7,7 @@
  *  - progress is a bar with ETA on a terminal, one line per stage otherwise. */
 #include "pg_cli.h"
 
+#include "pg_marble.h"
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
 

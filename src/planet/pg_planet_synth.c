@@ -23,6 +23,7 @@
  * the sub-pass did not write, or runs on the whole planet with a deterministic
  * algorithm. */
 #include "planetgen/pg_planet_synth.h"
+#include "pg_planet_synth_testing.h"
 #include "planetgen/pg_drainage.h"
 
 #include <math.h>
@@ -209,6 +210,7 @@ typedef struct ctx {
     int64_t Nout; /* delivered texels per face edge: tiles * tile_size */
     int m;        /* magnification from synthesized to delivered texels (a power of two) */
     int keep;     /* layout earth: levels kept without jitter (resolved from auto) */
+    bool independent_tiles; /* test only (pg_planet_synth_testing.h) */
     border_map bm;
     /* types */
     bool use_types;
@@ -412,7 +414,7 @@ static bool polar(int f) {
 
 static void correct_view(const ctx *c, int scale, int parity, pg_synth_view *v) {
     if (v->w <= 0 || v->h <= 0) return;
-    if (c->p->independent_tiles)
+    if (c->independent_tiles)
         correct_tile_alone(c, scale, parity, v);
     else
         pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, v);
@@ -460,7 +462,7 @@ static void correct_rect_owned(const ctx *c, int scale, int parity, const level 
 static pg_status correct_subpass_all(ctx *c, int scale, int parity, level *L, pg_error *err) {
     const int ts = c->S >> scale, T = c->T, r = L->r;
     const int ntiles = 6 * T * T;
-    const bool split = !c->p->independent_tiles && r > 2;
+    const bool split = !c->independent_tiles && r > 2;
     pg_status st = exchange(c, scale, L, 1, err);
     if (st) return st;
     border_refresh(&c->bm, L);
@@ -995,8 +997,8 @@ static pg_status final_pits(ctx *c, float *H, bool whole, double *closed, pg_err
     if (st) return st;
     pg_pits_opts o = pits_opts(c, p->final_method);
     pg_pits_area area = {0};
-    area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
-                    (6.0 * (double)c->Nout * (double)c->Nout);
+    area.constant = 4.0 * 3.14159265358979323846 * PG_ELLIPSOID_SPHERE_RADIUS_M *
+                    PG_ELLIPSOID_SPHERE_RADIUS_M / (6.0 * (double)c->Nout * (double)c->Nout);
     double t0 = pg_synth_now();
     if (p->pit_stats && whole)
         st = pg_drainage_closed_land_share(H, c->Nout, PG_CUBE_DEFAULT_PROJECTION, NULL,
@@ -1043,6 +1045,13 @@ static void render(const ctx *c, const level *L, const float *H, pg_planet *out,
 pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                               pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
                               pg_error *err) {
+    return pg_planet_synth_run_testing(ex, p, NULL, out, coords_out, info, err);
+}
+
+pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                                      const pg_planet_synth_testing *testing, pg_planet *out,
+                                      uint32_t **coords_out, pg_planet_synth_info *info,
+                                      pg_error *err) {
     pg_planet_synth_info local;
     if (!info) info = &local;
     memset(info, 0, sizeof *info);
@@ -1055,6 +1064,7 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     info->s_top = top_scale(ex);
     ctx c;
     st = ctx_init(&c, ex, p, info, err);
+    c.independent_tiles = testing && testing->independent_tiles;
     level L = {0};
     double t0 = pg_synth_now();
     if (!st) st = synthesize(&c, &L, err);
