@@ -68,8 +68,8 @@
  * pg_status, pg_error and pg_version.
  *
  * WHAT IS NOT HERE. Test-only switches and helpers shared between the library's own
- * source files live in its module folders (src/<module>/*.h) and are not installed;
- * nor is the reader of planet.json (a planet directory is read with pg_planet_load).
+ * source files live in the headers of its module folders (src/<module>/) and are not
+ * installed; nor is the reader of planet.json (pg_planet_load reads a planet directory).
  *
  * The headers, lowest layer first (each includes what it needs, so any one of them
  * can also be included alone): */
