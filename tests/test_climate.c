@@ -8,6 +8,8 @@
 #include "pg_test.h"
 
 #include "planetgen/pg_climate.h"
+#include "pg_marble.h"
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>

@@ -27,6 +27,7 @@
  * Over 600 lines because the cases share one loaded exemplar and its caches. */
 #include "pg_test.h"
 
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_inspect.h"
 #include "planetgen/pg_realism.h"
 #include "planetgen/pg_synth.h"
