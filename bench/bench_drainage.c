@@ -15,6 +15,8 @@
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_pits.h"
+#include "planetgen/pg_planet.h"
+#include "planetgen/pg_relief.h"
 
 #include <math.h>
 #include <omp.h>
@@ -121,7 +123,8 @@ static pg_status preview(const pg_planet *p, const float *acc, const args *a, pg
         double t0 = omp_get_wtime();
         pg_drainage_opts o;
         pg_drainage_opts_default(&o);
-        s = pg_drainage_draw_rivers(p, acc, o.river_threshold_km2, img.data, w, h, err);
+        pg_drainage_terrain t = pg_planet_drainage_terrain(p);
+        s = pg_drainage_draw_rivers(&t, acc, o.river_threshold_km2, img.data, w, h, err);
         printf("rivers preview %d x %d: %.2f s\n", w, h, omp_get_wtime() - t0);
     }
     if (!s) s = pg_image_write_png(a->png, &img, 8, err);
@@ -139,7 +142,8 @@ static pg_status run(const args *a, pg_error *err) {
     pg_drainage_stats st;
     float *acc = NULL;
     double t0 = omp_get_wtime(), c0 = cpu_seconds();
-    s = pg_drainage_planet(&p, NULL, &st, &acc, err);
+    pg_drainage_terrain terrain = pg_planet_drainage_terrain(&p);
+    s = pg_drainage_planet(&terrain, NULL, &st, &acc, err);
     double t1 = omp_get_wtime(), c1 = cpu_seconds();
     if (!s) {
         print_stats(&st);

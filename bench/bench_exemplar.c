@@ -2,6 +2,7 @@
  * calibration, resampling) and preview writing, with peak memory. Prints only;
  * nothing here is asserted. Run: build/bench_exemplar [repeats] */
 #include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_relief.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -67,7 +67,7 @@ static int export_child(const char *dir, const char *out) {
         return 1;
     }
     double t_load = now_s() - t0;
-    pg_dir_paths c = {.dir = out};
+    pg_planet_dir_paths c = {.dir = out};
     mkdir(out, 0777);
     const char *part[3] = {"glb", "exr", "previews"};
     double t[3], cpu[3];
@@ -77,7 +77,7 @@ static int export_child(const char *dir, const char *out) {
         pg_export_opts_default(&o);
         o.glb = k == 0, o.exr = k == 1, o.previews = k == 2;
         double s = now_s(), cs = cpu_s();
-        if (pg_export_write(&p, &o, pg_dir_path, &c, &r, &err) != PG_OK) {
+        if (pg_export_write(&p, &o, pg_planet_dir_path, &c, &r, &err) != PG_OK) {
             fprintf(stderr, "bench_export: %s: %s\n", part[k], err.msg);
             return 1;
         }

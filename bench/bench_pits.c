@@ -15,7 +15,7 @@
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_pits.h"
-#include "planetgen/pg_pits_synth.h"
+#include "planetgen/pg_pits_gainpit.h"
 
 #include <math.h>
 #include <omp.h>

@@ -3,7 +3,7 @@
  *
  * Each texel is the geodesic quadrilateral through its four corner points; its area
  * comes from GeographicLib's PolygonArea and its corner angles from geodesic
- * azimuths (pg_geodesy.h). Doing that for all 6*N^2 texels would take minutes at
+ * azimuths (pg_geo.h). Doing that for all 6*N^2 texels would take minutes at
  * N = 2048, so we use the cube's symmetry, which is exact because every projection
  * commutes with the face's symmetries:
  *  - a sphere: all 6 faces are congruent, and each face has the 8 symmetries of the

@@ -1,4 +1,4 @@
-/* pg_geodesy.cpp - the C adapter over GeographicLib declared in pg_geodesy.h.
+/* pg_geodesy.cpp - the C adapter over GeographicLib declared in pg_geo.h.
  *
  * Thin by design: every conversion is one GeographicLib call (Geocentric for
  * geodetic <-> ECEF, Geodesic for azimuths, PolygonArea for areas), so the
@@ -6,7 +6,7 @@
  * d is turned into a surface point by scaling it onto the ellipsoid
  * (x^2 + y^2)/a^2 + z^2/b^2 = 1, then handed to Geocentric::Reverse, which returns
  * the geodetic latitude. C++ types never leave this file. */
-#include "planetgen/pg_geodesy.h"
+#include "planetgen/pg_geo.h"
 
 #include <GeographicLib/Constants.hpp>
 #include <GeographicLib/Geocentric.hpp>
@@ -26,7 +26,7 @@ using GeographicLib::PolygonArea;
 extern "C" {
 
 pg_ellipsoid pg_ellipsoid_sphere(void) {
-    return pg_ellipsoid{PG_SPHERE_RADIUS_M, 0.0};
+    return pg_ellipsoid{PG_ELLIPSOID_SPHERE_RADIUS_M, 0.0};
 }
 
 pg_ellipsoid pg_ellipsoid_wgs84(void) {

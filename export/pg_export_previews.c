@@ -13,6 +13,7 @@
  * which is taken by finite differences one texel apart along two tangents. The relief is shaded,
  * not displaced: at globe scale its silhouette is invisible anyway. */
 #include "pg_export_internal.h"
+#include "planetgen/pg_relief.h"
 
 #include "pg_vec3.h"
 

@@ -1,6 +1,7 @@
 /* test_cli.c - the planetgen command line as a user meets it: help, version, exit
  * codes, and every bad input of the foundation issue. Each bad input must give
  * exit 2, exactly one line on stderr naming the file or option, and no files. */
+#include "pg_marble.h"
 #include "pg_test.h"
 
 #include "planetgen/pg_exemplar.h"

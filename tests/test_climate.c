@@ -3,10 +3,13 @@
  * on the southern), and its physical properties on constructed worlds: temperature
  * falls towards the poles and is symmetric at tilt 0, the lapse rate, a rain shadow,
  * a dry continental interior, the temperature offset, the axial tilt, and thread
- * independence. docs/world.md, "Climate", reports the figures printed here. */
+ * independence. docs/world.md, "Climate", reports the figures printed here.
+ * Over 600 lines because one file holds every case of the module, each independent. */
 #include "pg_test.h"
 
 #include "planetgen/pg_climate.h"
+#include "pg_marble.h"
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>

@@ -4,7 +4,7 @@
  * heights along the normal, and polygon areas against closed forms. */
 #include "pg_test.h"
 
-#include "planetgen/pg_geodesy.h"
+#include "planetgen/pg_geo.h"
 
 #include <math.h>
 #include <string.h>

@@ -249,10 +249,10 @@ static void test_blue_marble(void **state) {
     /* geography in the right place: Sahara (23N 10E) bright, Pacific (0, 150W) dark */
     double d[3];
     float v[3];
-    pg_geo_latlon_to_dir(&(pg_ellipsoid){PG_SPHERE_RADIUS_M, 0}, 23, 10, d);
+    pg_geo_latlon_to_dir(&(pg_ellipsoid){PG_ELLIPSOID_SPHERE_RADIUS_M, 0}, 23, 10, d);
     pg_cube_sample(PG_CUBE_EQUIANGULAR, n, cube, 3, d, v);
     assert_true(v[0] > 0.5);
-    pg_geo_latlon_to_dir(&(pg_ellipsoid){PG_SPHERE_RADIUS_M, 0}, 0, -150, d);
+    pg_geo_latlon_to_dir(&(pg_ellipsoid){PG_ELLIPSOID_SPHERE_RADIUS_M, 0}, 0, -150, d);
     pg_cube_sample(PG_CUBE_EQUIANGULAR, n, cube, 3, d, v);
     assert_true(v[0] < 0.15 && v[2] > v[0]);
     free(cube);

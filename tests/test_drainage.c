@@ -16,6 +16,7 @@
 #include "pg_test.h"
 
 #include "planetgen/pg_drainage.h"
+#include "planetgen/pg_planet.h"
 #include "planetgen/pg_synth.h"
 
 #include <math.h>
@@ -269,7 +270,8 @@ static void test_cube_crater(void **state) {
     pg_drainage_stats st;
     float *acc = NULL;
     pg_error err = {0};
-    assert_int_equal(pg_drainage_planet(&p, NULL, &st, &acc, &err), PG_OK);
+    pg_drainage_terrain terrain = pg_planet_drainage_terrain(&p);
+    assert_int_equal(pg_drainage_planet(&terrain, NULL, &st, &acc, &err), PG_OK);
     print_message("closed share %.6f (expected %.6f), land %.1f km^2 (GeographicLib %.1f)\n",
                   st.closed_land_share, closed / land, st.land_area_km2, land);
     assert_int_equal(st.pits, 1 + 9);
@@ -368,7 +370,7 @@ static void test_d8_slope(void **state) {
     double chord = 0;
     for (int k = 0; k < 3; k++)
         chord += (dc[k] - de[k]) * (dc[k] - de[k]);
-    assert_near(len[c], sqrt(chord) * PG_SPHERE_RADIUS_M / 1000.0, 1e-3);
+    assert_near(len[c], sqrt(chord) * PG_ELLIPSOID_SPHERE_RADIUS_M / 1000.0, 1e-3);
     assert_int_equal(recv[3 * n + 3], -1);
     assert_int_equal(flags[3 * n + 3], PG_DRAINAGE_LAND);
     assert_int_equal(flags[PG_CUBE_FACE_NX * nn + 5], 0);
@@ -421,7 +423,8 @@ static void test_seam_river(void **state) {
         }
     pg_drainage_stats st;
     float *acc = NULL;
-    assert_int_equal(pg_drainage_planet(&p, NULL, &st, &acc, NULL), PG_OK);
+    pg_drainage_terrain terrain = pg_planet_drainage_terrain(&p);
+    assert_int_equal(pg_drainage_planet(&terrain, NULL, &st, &acc, NULL), PG_OK);
     const int64_t mouth = PG_CUBE_FACE_PX * nn + SEAM_Y0 * n;
     const int64_t west = PG_CUBE_FACE_PX * nn + SEAM_Y0 * n + n - 1; /* +X side of seam */
     const int64_t first = PG_CUBE_FACE_PY * nn + SEAM_Y0 * n;        /* +Y side */
@@ -478,7 +481,8 @@ static void test_thread_invariance(void **state) {
     int saved = omp_get_max_threads();
     for (int t = 0; t < 2; t++) {
         omp_set_num_threads(t + 1);
-        assert_int_equal(pg_drainage_planet(&p, NULL, &st[t], &acc[t], NULL), PG_OK);
+        pg_drainage_terrain terrain = pg_planet_drainage_terrain(&p);
+        assert_int_equal(pg_drainage_planet(&terrain, NULL, &st[t], &acc[t], NULL), PG_OK);
         assert_int_equal(pg_drainage_closed_land_share(h, p.n, p.projection, &p.ellipsoid,
                                                        p.sea_level, &share[t], NULL),
                          PG_OK);
@@ -510,7 +514,8 @@ static void test_rivers_preview(void **state) {
     float *rgb = malloc((size_t)w * h * 3 * sizeof *rgb);
     for (int i = 0; i < w * h * 3; i++)
         rgb[i] = 0.5f;
-    assert_int_equal(pg_drainage_draw_rivers(&p, acc, 1e4, rgb, w, h, NULL), PG_OK);
+    pg_drainage_terrain terrain = pg_planet_drainage_terrain(&p);
+    assert_int_equal(pg_drainage_draw_rivers(&terrain, acc, 1e4, rgb, w, h, NULL), PG_OK);
     int blue = 0;
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
@@ -523,7 +528,7 @@ static void test_rivers_preview(void **state) {
             if (is_blue) assert_true(abs(i - 32) <= 4 && abs(j - 16) <= 4);
         }
     assert_true(blue >= 4);
-    assert_int_equal(pg_drainage_draw_rivers(&p, acc, 0, rgb, w, h, NULL), PG_ERR_BADINPUT);
+    assert_int_equal(pg_drainage_draw_rivers(&terrain, acc, 0, rgb, w, h, NULL), PG_ERR_BADINPUT);
     free(rgb), free(acc);
     pg_planet_free(&p);
 }

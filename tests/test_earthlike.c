@@ -6,7 +6,8 @@
  * hypsometry (Archimedes: z is uniform by area on a sphere, so h = c z has known
  * quantiles, moments and W1), zonal ice and desert figures, the zonal correlation,
  * thread-count independence, bad input; and novelty against the real exemplar: Earth
- * itself agrees with Earth, Earth turned 180 degrees in longitude agrees by chance. */
+ * itself agrees with Earth, Earth turned 180 degrees in longitude agrees by chance.
+ * Over 600 lines because one file holds every case of the module, each independent. */
 #include "pg_test.h"
 
 #include "pg_earthlike_internal.h"
@@ -76,12 +77,12 @@ static void add_cap(caps *k, double x, double y, double z, double radius_deg) {
 
 /* Angular radius (degrees) of a cap of `km2` on a sphere of radius R. */
 static double cap_radius_for_area(double km2) {
-    double R = PG_SPHERE_RADIUS_M;
+    double R = PG_ELLIPSOID_SPHERE_RADIUS_M;
     return acos(1 - km2 * 1e6 / (2 * M_PI * R * R)) / DEG;
 }
 
 static double cap_km2(double radius_deg) {
-    double R = PG_SPHERE_RADIUS_M;
+    double R = PG_ELLIPSOID_SPHERE_RADIUS_M;
     return 2 * M_PI * R * R * (1 - cos(radius_deg * DEG)) / 1e6;
 }
 
@@ -346,7 +347,7 @@ static void test_quantiles_brute_force(void **s) {
     int n = 64;
     make_planet(&p, n, pg_ellipsoid_sphere(), PG_CUBE_EQUIANGULAR);
     double *area = malloc(sizeof *area * n * n), *hw = malloc(sizeof *hw * 2 * 6 * n * n);
-    assert_int_equal(pg_pits_cube_face_areas(p.projection, n, PG_SPHERE_RADIUS_M, area, &err),
+    assert_int_equal(pg_pits_cube_face_areas(p.projection, n, PG_ELLIPSOID_SPHERE_RADIUS_M, area, &err),
                      PG_OK);
     size_t m = 0;
     double sw = 0, swh = 0, swh2 = 0, lo = INFINITY, hi = -INFINITY;

@@ -1,7 +1,9 @@
 /* test_exemplar.c - the default exemplar from marble-qt-data: relief assembly,
  * orientation of both maps, and the grey -> metres calibration, on the real data. */
+#include "pg_marble.h"
 #include "pg_test.h"
 
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>

@@ -169,16 +169,16 @@ static void test_exr_roundtrip(void **s) {
     o.glb = o.previews = false;
     char dir[1024];
     pg_test_scratch_dir("export_exr", dir, sizeof dir);
-    pg_dir_paths st = {.dir = dir};
+    pg_planet_dir_paths st = {.dir = dir};
     pg_error err = {0};
     /* an exaggeration whose relief passes a quarter of the radius is refused */
     o.exaggeration = 900;
-    assert_int_equal(pg_export_write(&p, &o, pg_dir_path, &st, NULL, &err), PG_ERR_BADINPUT);
+    assert_int_equal(pg_export_write(&p, &o, pg_planet_dir_path, &st, NULL, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "quarter of the"));
     o.exaggeration = 10;
     pg_error_clear(&err);
     pg_export_result r;
-    assert_int_equal(pg_export_write(&p, &o, pg_dir_path, &st, &r, &err), PG_OK);
+    assert_int_equal(pg_export_write(&p, &o, pg_planet_dir_path, &st, &r, &err), PG_OK);
     assert_int_equal(r.nfiles, 1);
     char path[1300];
     snprintf(path, sizeof path, "%s/height.exr", st.dir);

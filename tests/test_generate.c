@@ -15,8 +15,10 @@
  * on the size. The seam statistic is computed here (pairs classified by the tile grid,
  * face seams crossed with pg_cube_wrap), independently of the driver, with the
  * coherence that pg_inspect's statistic lacks; pg_inspect's |delta| ratios must agree. */
+#include "pg_planet_synth_testing.h"
 #include "pg_test.h"
 
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_inspect.h"
 #include "planetgen/pg_planet_synth.h"
@@ -72,10 +74,10 @@ static void synth(int T, int S, pg_planet_layout layout, bool independent, const
     p.tiles = T;
     p.tile_size = S;
     p.layout = layout;
-    p.independent_tiles = independent;
     pg_error err = {0};
     if (preset) assert_int_equal(pg_types_preset(preset, &p.type_mask, &err), PG_OK);
-    pg_status st = pg_planet_synth_run(ex, &p, &r->p, &r->coords, &r->info, &err);
+    const pg_planet_synth_testing testing = {.independent_tiles = independent};
+    pg_status st = pg_planet_synth_run_testing(ex, &p, &testing, &r->p, &r->coords, &r->info, &err);
     if (st) fail_msg("%s", err.msg);
 }
 

@@ -121,7 +121,7 @@ static void test_tiff_via_oiiotool(void **s) {
     fill_pattern(&a);
     assert_int_equal(pg_image_write_png(png, &a, 16, &err), PG_OK);
     const char *fmts[] = {"uint8", "uint16", "float"};
-    const pg_sample_type want[] = {PG_SAMPLE_UINT8, PG_SAMPLE_UINT16, PG_SAMPLE_FLOAT};
+    const pg_image_sample_type want[] = {PG_SAMPLE_UINT8, PG_SAMPLE_UINT16, PG_SAMPLE_FLOAT};
     for (int i = 0; i < 3; i++) {
         char tif[1100];
         snprintf(tif, sizeof tif, "%s/t_%s.tif", dir, fmts[i]);

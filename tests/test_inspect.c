@@ -23,9 +23,11 @@
  * leave-one-out baseline (gate <= FID_GATE_GOOD); negative controls made from it -
  * every texel from a hashed texel (shuffled), heavy texel noise - must score >=
  * FID_GATE_BAD, and a copy blurred by 2 texels must fail the completeness gate. The
- * synthesized planets are checked through `planetgen inspect` in test_realism_e2e.c. */
+ * synthesized planets are checked through `planetgen inspect` in test_realism_e2e.c.
+ * Over 600 lines because the cases share one loaded exemplar and its caches. */
 #include "pg_test.h"
 
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_inspect.h"
 #include "planetgen/pg_realism.h"
 #include "planetgen/pg_synth.h"

@@ -3,6 +3,7 @@
  * Properties (docs/inspect.md): identical images score 0; the distance is symmetric; it rises
  * monotonically with blur strength and with stretch factor; a slightly shifted crop
  * of a texture scores much lower than a different texture. */
+#include "pg_marble.h"
 #include "pg_test.h"
 
 #include "planetgen/pg_exemplar.h"

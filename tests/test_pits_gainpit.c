@@ -3,7 +3,7 @@
  * down to the finest level it removes most of the depression volume of the
  * synthesized terrain; the final pass leaves no depression. */
 #include "pg_test.h"
-#include "planetgen/pg_pits_synth.h"
+#include "planetgen/pg_pits_gainpit.h"
 
 #include <math.h>
 #include <stdio.h>

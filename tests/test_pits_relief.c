@@ -5,6 +5,7 @@
  * 6 x 256^2 cube sphere (all three), the independent checker confirms every cell
  * drains. Figures are printed for the
  * record; no timing is asserted. */
+#include "pg_marble.h"
 #include "pg_test.h"
 #include "pits_checker.h"
 #include "planetgen/pg_cube.h"

@@ -43,7 +43,7 @@
 #define PLANETGEN_PG_CUBE_H
 
 #include "planetgen/pg_common.h"
-#include "planetgen/pg_geodesy.h"
+#include "planetgen/pg_geo.h"
 
 #include <stdbool.h>
 

@@ -15,15 +15,16 @@
  *
  * Two layers: a core that works on any receiver graph (pg_drainage_compute; tests
  * build Scheidegger networks with it), and the cube-sphere layer (D8 with true texel
- * distances and areas on the planet's ellipsoid, the planet wrapper, the closed-land
- * share used by synthesis, and the rivers preview). Results do not depend on the
- * thread count. */
+ * distances and areas on the planet's ellipsoid, the whole-cube wrapper, the
+ * closed-land share used by synthesis, and the rivers preview). The cube-sphere layer
+ * reads a pg_drainage_terrain, the few fields of a planet it needs
+ * (pg_planet_drainage_terrain of pg_planet.h fills one), so drainage does not depend on
+ * the planet module. Results do not depend on the thread count. */
 #ifndef PLANETGEN_PG_DRAINAGE_H
 #define PLANETGEN_PG_DRAINAGE_H
 
 #include "planetgen/pg_common.h"
 #include "planetgen/pg_cube.h"
-#include "planetgen/pg_planet.h"
 
 #include <stdint.h>
 
@@ -89,7 +90,7 @@ pg_status pg_drainage_compute(const pg_drainage_graph *g, const pg_drainage_opts
 /* ---- the cube sphere ------------------------------------------------------------- */
 
 /* Area (km^2) of every texel of the 6 x n x n cube (global texel ids, pg_cube.h) on the
- * ellipsoid (NULL: a sphere of PG_SPHERE_RADIUS_M): the spherical excess of the texel's
+ * ellipsoid (NULL: a sphere of PG_ELLIPSOID_SPHERE_RADIUS_M): the spherical excess of the texel's
  * corners on the unit sphere times the ellipsoid's area element at the texel centre. */
 pg_status pg_drainage_cube_areas(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
                                  float *area_km2, pg_error *err);
@@ -106,12 +107,22 @@ pg_status pg_drainage_cube_d8(const float *const heights[PG_CUBE_NFACES], int64_
                               pg_cube_projection p, const pg_ellipsoid *ell, float sea_level,
                               int32_t *receiver, float *length_km, uint8_t *flags, pg_error *err);
 
-/* Everything on a planet: D8 on its heights with its sea level, projection and
- * ellipsoid, then pg_drainage_compute (o NULL: defaults). When acc_out is not NULL it
- * receives a malloc'd 6*n*n field (global texel ids; caller frees): the accumulation
+/* A planet's terrain as the cube-sphere layer reads it (the heights are borrowed, not
+ * copied or freed). */
+typedef struct pg_drainage_terrain {
+    int64_t n;                           /* texels per face edge */
+    const float *height[PG_CUBE_NFACES]; /* face f's n x n heights, metres */
+    pg_cube_projection projection;
+    pg_ellipsoid ellipsoid;
+    float sea_level; /* metres */
+} pg_drainage_terrain;
+
+/* Everything on a planet's terrain: D8 on its heights with its sea level, projection
+ * and ellipsoid, then pg_drainage_compute (o NULL: defaults). When acc_out is not NULL
+ * it receives a malloc'd 6*n*n field (global texel ids; caller frees): the accumulation
  * in km^2 on land, 0 on sea. */
-pg_status pg_drainage_planet(const pg_planet *p, const pg_drainage_opts *o, pg_drainage_stats *st,
-                             float **acc_out, pg_error *err);
+pg_status pg_drainage_planet(const pg_drainage_terrain *t, const pg_drainage_opts *o,
+                             pg_drainage_stats *st, float **acc_out, pg_error *err);
 
 /* The closed-land share alone, on a contiguous height field (6*n*n floats, global
  * texel ids) of the given projection and ellipsoid (NULL: sphere); the same figure as
@@ -122,13 +133,13 @@ pg_status pg_drainage_closed_land_share(const float *heights, int64_t n, pg_cube
                                         pg_error *err);
 
 /* The rivers preview: draw the cells with accumulation >= threshold_km2 in blue over an
- * equirectangular RGB image (w x h, row 0 north, latitudes geodetic on p's ellipsoid;
- * e.g. pg_relief_shade's output), in place. acc is a 6*n*n field of p's geometry (as
+ * equirectangular RGB image (w x h, row 0 north, latitudes geodetic on t's ellipsoid;
+ * e.g. pg_relief_shade's output), in place. acc is a 6*n*n field of t's geometry (as
  * from pg_drainage_planet). Each pixel takes the largest accumulation among the 2 x 2
  * texels around its centre, so one-texel rivers survive downsampling; opacity and
  * width (1 to 4 px) grow with log(acc / threshold) up to 1000 x threshold. */
-pg_status pg_drainage_draw_rivers(const pg_planet *p, const float *acc, double threshold_km2,
-                                  float *rgb, int w, int h, pg_error *err);
+pg_status pg_drainage_draw_rivers(const pg_drainage_terrain *t, const float *acc,
+                                  double threshold_km2, float *rgb, int w, int h, pg_error *err);
 
 #ifdef __cplusplus
 }

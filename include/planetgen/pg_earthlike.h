@@ -12,10 +12,10 @@
  * Jacobian); they sum to the ellipsoid's area to 3e-10 on WGS84 at N = 32 (falling
  * as 1/N^2; tests/test_earthlike.c). See src/pg_earthlike_geom.c.
  * Latitudes are GEODETIC on the planet's ellipsoid (the ray's surface point, as in
- * pg_geodesy.h; closed form for an ellipsoid of revolution).
+ * pg_geo.h; closed form for an ellipsoid of revolution).
  *
  * Land is height > p->sea_level; everything else is ocean. Terrain types are those of
- * pg_types_classify (pg_planet_synth.h) on the albedo rounded to 8-bit sRGB.
+ * pg_types_classify (pg_types.h) on the albedo rounded to 8-bit sRGB.
  *
  * Results do not depend on the OpenMP thread count: areas are summed as 64-bit
  * integers (fixed point, 2^-60 of the circumscribed sphere's area per unit), whose
@@ -27,7 +27,7 @@
 #include "planetgen/pg_common.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_planet.h"
-#include "planetgen/pg_planet_synth.h"
+#include "planetgen/pg_types.h"
 
 #include <stdint.h>
 

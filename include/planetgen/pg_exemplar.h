@@ -15,6 +15,7 @@
 #ifndef PLANETGEN_PG_EXEMPLAR_H
 #define PLANETGEN_PG_EXEMPLAR_H
 
+#include "planetgen/pg_calibration.h"
 #include "planetgen/pg_image.h"
 
 #include <stdbool.h>
@@ -23,16 +24,10 @@
 extern "C" {
 #endif
 
-#define PG_MARBLE_DIR "/usr/share/marble/data/maps/earth"
-#define PG_MARBLE_ALBEDO PG_MARBLE_DIR "/bluemarble/bluemarble.jpg"
-#define PG_MARBLE_RELIEF_DIR PG_MARBLE_DIR "/srtm/3"
-#define PG_MARBLE_RELIEF_ROWS 8
-#define PG_MARBLE_RELIEF_COLS 16
-
 typedef struct pg_exemplar_opts {
     const char *albedo_path; /* NULL: Blue Marble */
     const char *height_path; /* NULL: the Marble relief tiles */
-    const char *relief_dir;  /* NULL: PG_MARBLE_RELIEF_DIR (for the tiled default) */
+    const char *relief_dir;  /* NULL: Marble's relief tiles (for the tiled default) */
     double height_scale;     /* NaN: automatic (metres in = 1; grey = calibrated) */
     double height_offset;    /* NaN: automatic */
     double sea_level;        /* NaN: automatic (0 m after calibration / for metres) */
@@ -41,17 +36,6 @@ typedef struct pg_exemplar_opts {
 } pg_exemplar_opts;
 
 void pg_exemplar_opts_default(pg_exemplar_opts *o);
-
-/* The grey -> metres mapping: piecewise linear through knots (grey, metres). */
-#define PG_CALIB_MAX_KNOTS 16
-typedef struct pg_calibration {
-    int nknots;
-    float grey[PG_CALIB_MAX_KNOTS];
-    float metres[PG_CALIB_MAX_KNOTS];
-    float sea_grey;        /* grey level of sea level, estimated from the water mask */
-    double mask_agreement; /* fraction of pixels where (h < 0) == Blue Marble water */
-    bool reference_points; /* knots from surveyed reference points (Marble relief) */
-} pg_calibration;
 
 typedef struct pg_exemplar {
     int width, height; /* common grid, width == 2 * height */
@@ -88,31 +72,9 @@ void pg_exemplar_water_mask(const float *albedo, int width, int height, uint8_t 
 pg_status pg_exemplar_calibrate(const float *grey, const uint8_t *water, int width, int height,
                                 pg_calibration *c, pg_error *err);
 
-/* Replace c's knots by the reference-point calibration of Marble's relief: the grey
- * at each surveyed point (median of a 7x7 window of the full-resolution relief)
- * becomes a knot at that point's elevation; the sea-level knot c->sea_grey stays. */
-pg_status pg_calibration_marble_refs(const pg_image *relief, pg_calibration *c, pg_error *err);
-
-float pg_calibration_apply(const pg_calibration *c, float grey);
-
 /* Fraction of pixels where (height <= sea level) agrees with the water mask. */
 double pg_exemplar_mask_agreement(const float *height, float sea_level, const uint8_t *water,
                                   size_t n);
-
-/* Bilinear sample of an equirectangular map at (lat, lon) in degrees, wrapping in
- * longitude and clamping at the poles. */
-void pg_equirect_sample(const float *img, int width, int height, int channels, double lat_deg,
-                        double lon_deg, float *out);
-
-/* Resample an equirectangular map to a new size: area average when shrinking by an
- * integer factor, bilinear otherwise. */
-pg_status pg_equirect_resample(const float *src, int sw, int sh, int channels, int dw, int dh,
-                               float **out, pg_error *err);
-
-/* Shaded relief preview (RGB 0..1): hypsometric tint times hill shading, lit from
- * the north-west, with the slope taken in metres on the sphere. */
-void pg_relief_shade(const float *height, int width, int height_px, float sea_level,
-                     float *rgb_out);
 
 #ifdef __cplusplus
 }

@@ -18,7 +18,7 @@
 extern "C" {
 #endif
 
-typedef enum pg_sample_type {
+typedef enum pg_image_sample_type {
     PG_SAMPLE_UINT8,
     PG_SAMPLE_INT8,
     PG_SAMPLE_UINT16,
@@ -28,12 +28,12 @@ typedef enum pg_sample_type {
     PG_SAMPLE_HALF,
     PG_SAMPLE_FLOAT,
     PG_SAMPLE_DOUBLE
-} pg_sample_type;
+} pg_image_sample_type;
 
 typedef struct pg_image {
     int width, height, channels;
     float *data; /* width*height*channels, interleaved, caller frees with pg_image_free */
-    pg_sample_type src_type;
+    pg_image_sample_type src_type;
     float unit_scale;     /* multiply to get 0..1 for integer types; 1 for float types */
     char format_name[32]; /* e.g. "jpeg", "png", "tiff", "openexr" */
 } pg_image;

@@ -85,15 +85,13 @@ typedef struct pg_mpi_stats {
 void pg_mpi_note_pits_bytes(pg_mpi *m, double bytes);
 
 /* Fill the synthesis hooks for a planet of `tiles` x `tiles` tiles per face. The hooks
- * hold m; statistics accumulate in pg_mpi_stats_get. TEST ONLY: with the environment
- * variable PG_MPI_TEST_FAIL_AT=RANK:SCALE, rank RANK dies (_exit, no clean-up, as a
- * crash would) at its first exchange at that scale, after printing one line. */
+ * hold m; statistics accumulate in pg_mpi_stats_get. */
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d);
 const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m);
 
 /* Distributed plain depression filling on the cube sphere (Barnes 2016, "Flexibly
  * distributed Priority-Flood depression filling for teracell DEMs";
- * src/pg_mpi_pits_barnes2016.c): each rank floods its tiles, builds the spill graph over
+ * src/mpi/pg_mpi_pits_barnes2016.c): each rank floods its tiles, builds the spill graph over
  * their perimeters, rank 0 solves it, every rank applies it. h holds the planet's 6 n^2
  * heights (pg_pits cube ids) in this rank's address space, of which only the rank's
  * tiles (n / tiles texels square, owned as pg_mpi_tile_owner says) need be valid; they

@@ -21,6 +21,7 @@
 #define PLANETGEN_PG_PLANET_H
 
 #include "planetgen/pg_cube.h"
+#include "planetgen/pg_drainage.h"
 #include "planetgen/pg_exemplar.h"
 
 #ifdef __cplusplus
@@ -106,17 +107,21 @@ pg_status pg_planet_write_json(struct pg_json *j, const char *name, pg_planet_pa
                                void *user, pg_error *err);
 
 /* A pg_planet_path_fn (also usable with pg_export_write) that names files straight
- * inside d->dir, no temporary names: pass a pg_dir_paths as `user`. */
-typedef struct pg_dir_paths {
+ * inside d->dir, no temporary names: pass a pg_planet_dir_paths as `user`. */
+typedef struct pg_planet_dir_paths {
     const char *dir;
     char buf[4096];
-} pg_dir_paths;
-const char *pg_dir_path(const char *name, void *user);
+} pg_planet_dir_paths;
+const char *pg_planet_dir_path(const char *name, void *user);
 
 /* Save straight into an existing directory, file by file (no temporary names): for
  * tools and tests that build a planet directory. The CLI stages through
  * pg_planet_save instead, so that a failed run leaves nothing. */
 pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err);
+
+/* The planet's terrain as the drainage measures read it (pg_drainage.h): its heights
+ * (borrowed), face size, projection, ellipsoid and sea level. */
+pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p);
 
 /* Load a planet directory written by pg_planet_save. Missing files are named in
  * the error; a directory without planet.json is "not a planet output". */

@@ -1,7 +1,6 @@
 /* pg_planet_synth.h - whole-planet synthesis by example on the cube sphere
- * (docs/generate.md, "Method"), terrain types (Gain et al. 2015 type constraints,
- * EarthGen's four planet kinds) and the elevation guide (Scott & Dodgson 2021 soft
- * constraints).
+ * (docs/generate.md, "Method"), steered by terrain types (pg_types.h) and an elevation
+ * guide (pg_guide.h).
  *
  * THE DRIVER (pg_planet_synth_run) runs the Lefebvre-Hoppe engine of pg_synth.h
  * level-synchronously over all 6 T^2 tiles of the planet: at every level and every
@@ -32,9 +31,11 @@
 #define PLANETGEN_PG_PLANET_SYNTH_H
 
 #include "planetgen/pg_common.h"
+#include "planetgen/pg_guide.h"
 #include "planetgen/pg_pits.h"
 #include "planetgen/pg_planet.h"
 #include "planetgen/pg_synth.h"
+#include "planetgen/pg_types.h"
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -42,68 +43,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ------------------------------------ types ------------------------------------ */
-
-typedef enum pg_types_id {
-    PG_TYPE_OCEAN,
-    PG_TYPE_ICE,      /* ice and snow */
-    PG_TYPE_DESERT,   /* desert and bare ground */
-    PG_TYPE_GRASS,    /* grass and sparse vegetation */
-    PG_TYPE_FOREST,   /* forest */
-    PG_TYPE_MOUNTAIN, /* high ground that is not ice */
-    PG_TYPE_COUNT
-} pg_types_id;
-
-#define PG_TYPES_ALL ((uint8_t)((1u << PG_TYPE_COUNT) - 1))
-
-/* "ocean", "ice", "desert", "grass", "forest", "mountain". */
-const char *pg_types_name(int type);
-/* The colour that names the type in a type map (sRGB 0..255). */
-void pg_types_colour(int type, uint8_t rgb[3]);
-
-/* The classification rule (documented in pg_types.c) of one exemplar texel from its
- * sRGB albedo and its height in metres. */
-int pg_types_classify(const uint8_t rgb[3], float height_m, float sea_level);
-
-/* Type of every texel of a prepared exemplar (nfaces*E*E bytes; caller frees). */
-uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex);
-
-/* Allowed-type mask of a preset: "earth" (all), "desert", "snow", "grassland".
- * BADINPUT naming --preset for anything else. */
-pg_status pg_types_preset(const char *name, uint8_t *mask, pg_error *err);
-
-/* A type map: an equirectangular image whose pixels are type colours (or black =
- * any type). Loaded into a mask image (w x h bytes). BADINPUT if unreadable, not
- * 2:1, or with colours that name no type (they are listed). */
-typedef struct pg_types_map {
-    int width, height;
-    uint8_t *mask;
-} pg_types_map;
-pg_status pg_types_map_load(const char *path, pg_types_map *m, pg_error *err);
-void pg_types_map_free(pg_types_map *m);
-
-/* ------------------------------------ guide ------------------------------------ */
-
-/* An equirectangular grey elevation sketch, white high, black low: grey g in 0..1 is
- * g_low_m + g * (g_high_m - g_low_m) metres. */
-typedef struct pg_guide {
-    int width, height;
-    float *metres;
-} pg_guide;
-#define PG_GUIDE_LOW_M (-4000.0)
-#define PG_GUIDE_HIGH_M 4000.0
-pg_status pg_guide_load(const char *path, pg_guide *g, pg_error *err);
-void pg_guide_free(pg_guide *g);
-/* Read an equirectangular image for `option` (BADINPUT naming it and the path if it is
- * unreadable or not 2:1). */
-struct pg_image;
-pg_status pg_guide_read_equirect(const char *path, const char *option, struct pg_image *img,
-                                 pg_error *err);
-
-/* Blend weight of the guide at scale s when the coarsest scale is s_top:
- * alpha * 2^-(s_top - s) (halves at each finer level). */
-double pg_guide_weight(double alpha, int s_top, int scale);
 
 /* ---------------------------------- the driver ---------------------------------- */
 
@@ -200,8 +139,6 @@ typedef struct pg_planet_synth_params {
     bool final_pits;             /* default true */
     pg_pits_method final_method; /* default breach (with epsilon) */
     bool pit_stats;              /* count depressions before and after the final pass */
-    bool independent_tiles;      /* TEST ONLY: tiles see no neighbours (halo = their own
-                                    edge continued), to show that seams then appear */
     void (*progress)(void *user, double frac); /* optional */
     void *progress_user;
 

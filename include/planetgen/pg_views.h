@@ -23,6 +23,7 @@
 
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_image.h"
+#include "planetgen/pg_view.h"
 
 #include <stdbool.h>
 
@@ -50,20 +51,12 @@ void pg_views_frame(int view, double c[3], double r[3], double u[3]);
 /* A source: writes RGB (sRGB 0..1) and height in metres at a unit direction. */
 typedef void (*pg_views_sampler)(void *user, const double dir[3], float rgbh[4]);
 
-/* A rendered view: size x size, rgb interleaved, height in metres, row 0 at the top. */
-typedef struct pg_view {
-    int size;
-    float *rgb;
-    float *height;
-} pg_view;
-
 /* Render `view` at size x size with field fov_deg (0 < fov < 120). Every pixel is a
  * Gaussian-weighted average of point samples on a PG_VIEWS_SUPERSAMPLE times finer grid,
  * with standard deviation sigma_deg on the sphere (at least half a pixel, so the view
  * never aliases). BADINPUT for bad parameters. */
 pg_status pg_views_render(int view, int size, double fov_deg, double sigma_deg, pg_views_sampler s,
                           void *user, pg_view *out, pg_error *err);
-void pg_view_free(pg_view *v);
 
 /* Point samples per pixel side before the Gaussian reduction. */
 #define PG_VIEWS_SUPERSAMPLE 2
@@ -99,9 +92,6 @@ typedef struct pg_views_equirect_src {
     pg_ellipsoid ell;
 } pg_views_equirect_src;
 void pg_views_sample_equirect(void *user, const double dir[3], float rgbh[4]);
-
-/* The view's RGB as an image (data aliases v->rgb: do not free it separately). */
-pg_image pg_view_rgb_image(const pg_view *v);
 
 /* Place views side by side: `count` views of equal size into one RGB image of
  * count*size + (count-1)*gap by size pixels, gaps white. The caller frees out. */

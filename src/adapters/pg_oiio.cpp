@@ -39,7 +39,7 @@ static std::string one_line(std::string s) {
     return s;
 }
 
-static bool map_type(TypeDesc t, pg_sample_type *st, float *scale) {
+static bool map_type(TypeDesc t, pg_image_sample_type *st, float *scale) {
     switch (t.basetype) {
     case TypeDesc::UINT8:
         *st = PG_SAMPLE_UINT8;
@@ -201,7 +201,7 @@ extern "C" pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_ima
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "%s: %dx%d is %.0f Mpx, above the limit of %.0f Mpx", path, spec.width,
                             spec.height, npix / 1e6, max_pixels / 1e6);
-    pg_sample_type stype;
+    pg_image_sample_type stype;
     float scale;
     if (!map_type(spec.format, &stype, &scale))
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: unsupported sample type %s", path,

@@ -1,6 +1,6 @@
 // pg_pits_tiff.cpp - the OpenImageIO adapter behind pg_pits_tiff.h: float32 TIFF
 // output that keeps the input's GeoTIFF georeferencing attributes. C++ stays here.
-#include "planetgen/pg_pits_tiff.h"
+#include "pg_pits_tiff.h"
 
 #include <OpenImageIO/imageio.h>
 

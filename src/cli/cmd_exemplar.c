@@ -8,6 +8,7 @@
 
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_json.h"
+#include "planetgen/pg_relief.h"
 
 #include <math.h>
 #include <stdlib.h>

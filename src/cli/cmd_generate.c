@@ -12,6 +12,7 @@
 #include "cmd_generate.h"
 #include "pg_commands.h"
 
+#include "pg_planet_synth_testing.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_export.h"
 #include "planetgen/pg_inspect.h"
@@ -118,7 +119,6 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->pit_skip_levels = (int)a->pit_skip;
     p->final_pits = strcmp(a->final_pits, "none") != 0;
     if (p->final_pits) pg_pits_method_parse(a->final_pits, &p->final_method);
-    p->independent_tiles = a->independent;
     if (in->has_world) set_world(a, in, p);
 }
 
@@ -355,7 +355,9 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_planet_synth_info si;
     pg_cli_stage_begin(cli, "synthesize");
     uint32_t *coords = NULL; /* the single-file layout keeps the coordinate map */
-    pg_status st = pg_planet_synth_run(ex, &p, &planet, g->tiled ? NULL : &coords, &si, &err);
+    const pg_planet_synth_testing testing = {.independent_tiles = a->independent};
+    pg_status st = pg_planet_synth_run_testing(ex, &p, &testing, &planet, g->tiled ? NULL : &coords,
+                                               &si, &err);
     const gen_scale sc = {ex->face_size, pg_planet_synth_magnification(ex, &p),
                           pg_planet_synth_keep_levels(ex, &p)}; /* ex is freed next */
     pg_cli_stage_end(cli);

@@ -10,6 +10,7 @@
 #include "pg_planet_meta.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_realism.h"
+#include "planetgen/pg_relief.h"
 
 #include <limits.h>
 #include <math.h>
@@ -181,7 +182,8 @@ static pg_status write_rivers(pg_cli *cli, const char *dir, const pg_planet *p, 
         pg_relief_shade(eq, w, h, p->sea_level, img.data);
         pg_drainage_opts o;
         pg_drainage_opts_default(&o);
-        st = pg_drainage_draw_rivers(p, acc, o.river_threshold_km2, img.data, w, h, err);
+        pg_drainage_terrain t = pg_planet_drainage_terrain(p);
+        st = pg_drainage_draw_rivers(&t, acc, o.river_threshold_km2, img.data, w, h, err);
     }
     if (st == PG_OK) st = write_png(cli, dir, "rivers.png", &img, err);
     free(hf), free(eq);

@@ -18,7 +18,7 @@
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_pits.h"
-#include "planetgen/pg_pits_tiff.h"
+#include "pg_pits_tiff.h"
 #include "planetgen/pg_planet.h"
 
 #include <math.h>

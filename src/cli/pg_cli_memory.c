@@ -3,6 +3,8 @@
  * exemplar load from its inputs' headers. */
 #include "pg_cli.h"
 
+#include "pg_marble.h"
+
 #include "planetgen/pg_image.h"
 
 #include <math.h>

@@ -49,8 +49,8 @@ static pg_status graph_run(const planet_graph *pg, int64_t n, const pg_drainage_
     return pg_drainage_compute(&g, o, acc, st, err);
 }
 
-pg_status pg_drainage_planet(const pg_planet *p, const pg_drainage_opts *o, pg_drainage_stats *st,
-                             float **acc_out, pg_error *err) {
+pg_status pg_drainage_planet(const pg_drainage_terrain *p, const pg_drainage_opts *o,
+                             pg_drainage_stats *st, float **acc_out, pg_error *err) {
     if (acc_out) *acc_out = NULL;
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         if (!p->height[f])

@@ -33,7 +33,7 @@ static int64_t clamp64(int64_t v, int64_t lo, int64_t hi) {
 }
 
 /* Largest accumulation among the 2 x 2 texels around the direction. */
-static float acc_at(const pg_planet *p, const float *acc, const double d[3]) {
+static float acc_at(const pg_drainage_terrain *p, const float *acc, const double d[3]) {
     int face;
     double u, v;
     pg_cube_from_dir(p->projection, d, &face, &u, &v);
@@ -54,8 +54,8 @@ static float strength(float a, double thr) {
     return (float)(t > 1 ? 1 : t);
 }
 
-static void strength_row(const pg_planet *p, const float *acc, double thr, int w, int h, int j,
-                         float *out) {
+static void strength_row(const pg_drainage_terrain *p, const float *acc, double thr, int w, int h,
+                         int j, float *out) {
     const double deg = 3.14159265358979323846 / 180.0;
     double lat = (90.0 - (j + 0.5) * 180.0 / h) * deg;
     for (int i = 0; i < w; i++) {
@@ -80,8 +80,8 @@ static float cover(const float *s, int w, int h, int i, int j) {
     return best;
 }
 
-pg_status pg_drainage_draw_rivers(const pg_planet *p, const float *acc, double threshold_km2,
-                                  float *rgb, int w, int h, pg_error *err) {
+pg_status pg_drainage_draw_rivers(const pg_drainage_terrain *p, const float *acc,
+                                  double threshold_km2, float *rgb, int w, int h, pg_error *err) {
     if (w < 1 || h < 1 || p->n < 2 || !(threshold_km2 > 0))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "drainage: rivers image %d x %d, threshold %g: bad size or threshold",

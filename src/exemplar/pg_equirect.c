@@ -3,6 +3,7 @@
  * Pixel (x, y) covers longitudes [-180 + 360x/W, -180 + 360(x+1)/W] and latitudes
  * [90 - 180y/H, 90 - 180(y+1)/H]; samples sit at pixel centres. Longitude wraps,
  * latitude clamps: the pole rows are the nearest data to the poles. */
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>

@@ -4,6 +4,8 @@
  * and validated (geometry, 2:1, finite values) before anything is derived. The
  * common grid is the coarser input's unless asked otherwise, so no input is
  * invented at a resolution it does not have. */
+#include "pg_marble.h"
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>

@@ -6,6 +6,7 @@
  * with a vertical exaggeration of PG_SHADE_EXAGGERATION: at a few km per pixel,
  * true slopes are too gentle to see. */
 #include "planetgen/pg_exemplar.h"
+#include "planetgen/pg_relief.h"
 
 #include <math.h>
 

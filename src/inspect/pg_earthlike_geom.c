@@ -34,7 +34,7 @@
  *
  * LATITUDE is geodetic: the ray's surface point has normal proportional to
  * (x/a^2, y/a^2, z/b^2), so tan(lat) = (a/b)^2 dz / rho = dz / ((1 - f)^2 rho), the
- * same as pg_geo_dir_to_latlon (pg_geodesy.h) in closed form.
+ * same as pg_geo_dir_to_latlon (pg_geo.h) in closed form.
  *
  * SYMMETRY. Every projection maps grid coordinates to the same face-local
  * components (along n, e_u, e_v) on every face (pg_cube_to_dir), and the frames are

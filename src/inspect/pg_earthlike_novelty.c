@@ -20,6 +20,7 @@
  * fixed-point texel areas of pg_earthlike_geom.c summed as integers, so the figures
  * do not depend on the thread count. */
 #include "pg_earthlike_internal.h"
+#include "planetgen/pg_equirect.h"
 
 #include <math.h>
 #include <string.h>

@@ -152,7 +152,8 @@ static pg_status measure_water(const pg_planet *p, stage_clock *c, float **acc_o
     float *h = NULL;
     st = filled_heights(p, &h, err);
     if (st == PG_OK) {
-        pg_planet q = *p; /* shallow: the filled heights, everything else shared */
+        /* the filled heights, everything else the planet's */
+        pg_drainage_terrain q = pg_planet_drainage_terrain(p);
         size_t nn = (size_t)(p->n * p->n);
         for (int f = 0; f < PG_CUBE_NFACES; f++)
             q.height[f] = h + (size_t)f * nn;

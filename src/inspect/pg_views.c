@@ -5,6 +5,7 @@
  * be rendered into pixel-identical frames and compared with the LPIPS-style metric.
  * Pixels run in parallel with OpenMP; each depends only on its own samples, so the
  * result does not depend on the thread count. */
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_views.h"
 
 #include "planetgen/pg_exemplar.h"

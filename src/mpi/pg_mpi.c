@@ -25,6 +25,7 @@
  * planet get the whole level first (allgather, width -1), and are deterministic, so
  * every rank computes the same values as a single process would. */
 #include "pg_mpi_comm.h"
+#include "pg_mpi_testing.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -325,7 +326,7 @@ static double sum_hook(void *user, double v) {
 void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     m->tiles = tiles;
     m->ntiles = 6 * tiles * tiles;
-    const char *fail = getenv("PG_MPI_TEST_FAIL_AT");
+    const char *fail = getenv(PG_MPI_TESTING_FAIL_AT_ENV);
     if (fail && sscanf(fail, "%d:%d", &m->fail_rank, &m->fail_scale) != 2) m->fail_rank = -1;
     d->user = m;
     d->owns = owns_hook;

@@ -8,7 +8,7 @@
  * Grey g in 0..1 (the mean of the colour channels) maps linearly to PG_GUIDE_LOW_M ..
  * PG_GUIDE_HIGH_M metres: mid grey is sea level's neighbourhood, black deep ocean,
  * white high mountains. */
-#include "planetgen/pg_planet_synth.h"
+#include "planetgen/pg_guide.h"
 
 #include "planetgen/pg_image.h"
 

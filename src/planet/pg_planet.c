@@ -236,15 +236,15 @@ pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *u
     return st;
 }
 
-const char *pg_dir_path(const char *name, void *user) {
-    pg_dir_paths *d = user;
+const char *pg_planet_dir_path(const char *name, void *user) {
+    pg_planet_dir_paths *d = user;
     snprintf(d->buf, sizeof d->buf, "%s/%s", d->dir, name);
     return d->buf;
 }
 
 pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err) {
-    pg_dir_paths d = {.dir = dir};
-    return pg_planet_save(p, pg_dir_path, &d, err);
+    pg_planet_dir_paths d = {.dir = dir};
+    return pg_planet_save(p, pg_planet_dir_path, &d, err);
 }
 
 static pg_status load_faces(const char *dir, pg_planet *p, pg_error *err) {
@@ -349,6 +349,16 @@ static pg_status check_files(const char *dir, const pg_planet_meta *meta, pg_err
             return pg_error_set(err, PG_ERR_BADINPUT, "%s: missing %s", dir, name);
     }
     return PG_OK;
+}
+
+pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p) {
+    pg_drainage_terrain t = {.n = p->n,
+                             .projection = p->projection,
+                             .ellipsoid = p->ellipsoid,
+                             .sea_level = p->sea_level};
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        t.height[f] = p->height[f];
+    return t;
 }
 
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {

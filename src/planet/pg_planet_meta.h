@@ -2,7 +2,7 @@
 #ifndef PG_PLANET_META_H
 #define PG_PLANET_META_H
 
-#include "planetgen/pg_geodesy.h"
+#include "planetgen/pg_geo.h"
 
 #include <stdbool.h>
 

@@ -27,6 +27,7 @@
  * the sub-pass did not write, or runs on the whole planet with a deterministic
  * algorithm. */
 #include "pg_planet_synth_internal.h"
+#include "pg_planet_synth_testing.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -161,6 +162,13 @@ static pg_status synthesize(pg_ps_ctx *c, pg_ps_level *out, pg_error *err) {
 pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                               pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
                               pg_error *err) {
+    return pg_planet_synth_run_testing(ex, p, NULL, out, coords_out, info, err);
+}
+
+pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
+                                      const pg_planet_synth_testing *testing, pg_planet *out,
+                                      uint32_t **coords_out, pg_planet_synth_info *info,
+                                      pg_error *err) {
     pg_planet_synth_info local;
     if (!info) info = &local;
     memset(info, 0, sizeof *info);
@@ -173,6 +181,7 @@ pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth
     info->s_top = pg_ps_top_scale(ex);
     pg_ps_ctx c;
     st = ctx_init(&c, ex, p, info, err);
+    c.independent_tiles = testing && testing->independent_tiles;
     pg_ps_level L = {0};
     double t0 = pg_synth_now();
     if (!st) st = synthesize(&c, &L, err);

@@ -233,7 +233,7 @@ static bool polar(int f) {
 
 static void correct_view(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v) {
     if (v->w <= 0 || v->h <= 0) return;
-    if (c->p->independent_tiles)
+    if (c->independent_tiles)
         correct_tile_alone(c, scale, parity, v);
     else
         pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, v);
@@ -282,7 +282,7 @@ pg_status pg_ps_correct_subpass_all(pg_ps_ctx *c, int scale, int parity, pg_ps_l
                                     pg_error *err) {
     const int ts = c->S >> scale, T = c->T, r = L->r;
     const int ntiles = 6 * T * T;
-    const bool split = !c->p->independent_tiles && r > 2;
+    const bool split = !c->independent_tiles && r > 2;
     pg_status st = pg_ps_exchange(c, scale, L, 1, err);
     if (st) return st;
     pg_ps_border_refresh(&c->bm, L);

@@ -156,8 +156,8 @@ pg_status pg_ps_final_pits(pg_ps_ctx *c, float *H, bool whole, double *closed, p
     if (st) return st;
     pg_pits_opts o = pits_opts(c, p->final_method);
     pg_pits_area area = {0};
-    area.constant = 4.0 * 3.14159265358979323846 * PG_SPHERE_RADIUS_M * PG_SPHERE_RADIUS_M /
-                    (6.0 * (double)c->Nout * (double)c->Nout);
+    area.constant = 4.0 * 3.14159265358979323846 * PG_ELLIPSOID_SPHERE_RADIUS_M *
+                    PG_ELLIPSOID_SPHERE_RADIUS_M / (6.0 * (double)c->Nout * (double)c->Nout);
     double t0 = pg_synth_now();
     if (p->pit_stats && whole)
         st = pg_drainage_closed_land_share(H, c->Nout, PG_CUBE_DEFAULT_PROJECTION, NULL,

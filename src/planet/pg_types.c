@@ -22,8 +22,9 @@
  *
  * TYPE MAPS are equirectangular images of type colours (pg_types_colour), plus black
  * for "any type"; a pixel within 24 per channel of a colour names it. */
-#include "planetgen/pg_planet_synth.h"
+#include "planetgen/pg_types.h"
 
+#include "planetgen/pg_guide.h"
 #include "planetgen/pg_image.h"
 
 #include <stdio.h>

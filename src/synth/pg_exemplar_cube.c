@@ -17,6 +17,7 @@
 #include "pg_synth_internal.h"
 
 #include "planetgen/pg_cube.h"
+#include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
 #include "pg_vec3.h"

@@ -5,8 +5,8 @@
  * its heights are R = E_s(S) + V. Correction introduces pits at every level. The
  * hook removes them from R (one pass over the whole level, border as outlet) and
  * folds the change into V, so the next pass and the next level start pit-free and
- * the coarse drainage is inherited by the fine levels. See pg_pits_synth.h. */
-#include "planetgen/pg_pits_synth.h"
+ * the coarse drainage is inherited by the fine levels. See pg_pits_gainpit.h. */
+#include "planetgen/pg_pits_gainpit.h"
 
 #include <omp.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* pg_pits_synth.h - pit removal inside the synthesis ("Gain-pit", Scott & Dodgson
+/* pg_pits_gainpit.h - pit removal inside the synthesis ("Gain-pit", Scott & Dodgson
  * 2021 §5; Scott's thesis §4.2.1 and §5.3.2), as a pass hook for pg_synth.
  *
  * After every correction pass of every level except the finest skip_levels, the
@@ -11,8 +11,8 @@
  * For the flat driver (pg_synth_flat) the region's border is an outlet, like a map
  * edge; the sea level is the exemplar's. A planet driver calls
  * pg_pits_correct_offsets on the whole cube level instead (never per tile). */
-#ifndef PLANETGEN_PG_PITS_SYNTH_H
-#define PLANETGEN_PG_PITS_SYNTH_H
+#ifndef PLANETGEN_PG_PITS_GAINPIT_H
+#define PLANETGEN_PG_PITS_GAINPIT_H
 
 #include "planetgen/pg_pits.h"
 #include "planetgen/pg_synth.h"

@@ -1,5 +1,5 @@
-/* pg_geodesy.h - the planet's ellipsoid and the conversions between cube-sphere
- * directions, geodetic latitude/longitude, ECEF positions and areas.
+/* pg_geo.h - geodesy on the planet's ellipsoid (pg_ellipsoid.h): the conversions between
+ * cube-sphere directions, geodetic latitude/longitude, ECEF positions and areas.
  *
  * The idea: the cube sphere gives unit directions; a direction d stands for the
  * point where the ray from the planet's centre along d pierces the ellipsoid.
@@ -8,30 +8,16 @@
  * The implementation is a thin adapter (cubesphere/pg_geodesy.cpp) over
  * GeographicLib (Geocentric, Geodesic, PolygonArea); no C++ type crosses this
  * header. Angles are in degrees, lengths in metres. */
-#ifndef PLANETGEN_PG_GEODESY_H
-#define PLANETGEN_PG_GEODESY_H
+#ifndef PLANETGEN_PG_GEO_H
+#define PLANETGEN_PG_GEO_H
 
-#include "planetgen/pg_common.h"
+#include "planetgen/pg_ellipsoid.h"
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef struct pg_ellipsoid {
-    double a; /* equatorial radius, metres, > 0 */
-    double f; /* flattening, in [0, 1) */
-} pg_ellipsoid;
-
-#define PG_SPHERE_RADIUS_M 6371008.8 /* IUGG mean Earth radius */
-
-pg_ellipsoid pg_ellipsoid_sphere(void);
-pg_ellipsoid pg_ellipsoid_wgs84(void);
-/* Validate a, f (BADINPUT naming `option` if a <= 0, f outside [0, 1), not finite). */
-pg_status pg_ellipsoid_make(double a, double f, const char *option, pg_ellipsoid *out,
-                            pg_error *err);
-/* "sphere", "wgs84" or "A,F" (metres, flattening). */
-pg_status pg_ellipsoid_parse(const char *spec, const char *option, pg_ellipsoid *out,
-                             pg_error *err);
 
 /* Direction (any nonzero vector) -> geodetic lat/lon of the ray's surface point. */
 void pg_geo_dir_to_latlon(const pg_ellipsoid *e, const double dir[3], double *lat, double *lon);

@@ -2,8 +2,8 @@
  * GeoTIFF back when they give one: the georeferencing attributes OpenImageIO reads
  * from the input ("GeoTIFF:*") are copied to the output. A C header over the thin
  * OpenImageIO adapter src/adapters/pg_pits_tiff.cpp. */
-#ifndef PLANETGEN_PG_PITS_TIFF_H
-#define PLANETGEN_PG_PITS_TIFF_H
+#ifndef PG_PITS_TIFF_H
+#define PG_PITS_TIFF_H
 
 #include "planetgen/pg_common.h"
 
