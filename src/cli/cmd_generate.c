@@ -442,8 +442,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--temperature-offset", NULL, PG_OPT_DOUBLE, &a.temperature_offset, -40, 40, NULL, "K",
          "layout world: added to every temperature, ice age < 0 < hothouse (0)"},
         {"--keep-levels", NULL, PG_OPT_INT, &a.keep_levels, 0, 64, NULL, "K",
-         "layouts earth and world: coarsest levels kept without jitter (default: those at "
-         "least 1/32 of a face apart: 2 for an exemplar face of 512, 1 for 1024 and up)"},
+         "layout earth: coarsest levels kept without jitter (default: those at least 1/32 "
+         "of a face apart: 2 for an exemplar face of 512, 1 for 1024 and up)"},
         {"--guide", NULL, PG_OPT_STRING, &a.guide, 0, 0, NULL, "PNG",
          "equirectangular grey elevation sketch, white high, black low (soft constraint)"},
         {"--guide-weight", NULL, PG_OPT_DOUBLE, &a.guide_weight, 0, 1, NULL, "A",

@@ -44,7 +44,7 @@ typedef struct pg_ps_ctx {
     int64_t N;    /* synthesized texels per face edge: Nout / m */
     int64_t Nout; /* delivered texels per face edge: tiles * tile_size */
     int m;        /* magnification from synthesized to delivered texels (a power of two) */
-    int keep;     /* layouts earth, world: levels kept without jitter (resolved from auto) */
+    int keep;     /* layout earth: levels kept without jitter (resolved from auto) */
     bool independent_tiles; /* test only (pg_planet_synth_testing.h) */
     pg_ps_border bm;
     /* types */

@@ -152,10 +152,8 @@ void pg_ps_land_agreement(pg_ps_ctx *c, int scale, const pg_ps_level *L) {
 
 /* ------------------------------- upsampling and jitter ------------------------------- */
 
-/* Layouts earth and world keep their coarsest levels (Earth's own texels, the feature
- * match with the macro world) without jitter. */
 static double jitter_for(const pg_ps_ctx *c, int scale) {
-    if (c->p->layout != PG_LAYOUT_FREE && scale > c->s_top - c->keep) return 0;
+    if (c->p->layout == PG_LAYOUT_EARTH && scale > c->s_top - c->keep) return 0;
     return pg_synth_jitter_for(&c->p->synth, scale);
 }
 
