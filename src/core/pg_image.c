@@ -84,13 +84,20 @@ pg_status pg_image_jpeg_check(const char *path, pg_error *err) {
         fclose(f);
         return PG_OK; /* not a JPEG */
     }
-    /* Segments up to the scan; a file that ends early is libjpeg's to report. */
-    while (fread(h, 1, 2, f) == 2 && h[0] == 0xff) {
-        int marker = h[1];
-        if (marker == 0xff) { /* fill byte: the marker follows */
-            if (fseek(f, -1, SEEK_CUR) != 0) break;
-            continue;
-        }
+    /* Segments up to the scan; a file that ends early is libjpeg's to report. Bytes
+     * between segments are skipped up to the next 0xFF, as libjpeg's next_marker does
+     * ("extraneous bytes before marker"): it goes on reading the segments after them,
+     * so this check must see those too. */
+    for (;;) {
+        int c = fgetc(f);
+        if (c == EOF) break;
+        if (c != 0xff) continue; /* extraneous byte */
+        do
+            c = fgetc(f);
+        while (c == 0xff); /* fill bytes: the marker follows */
+        if (c == EOF) break;
+        int marker = c;
+        if (marker == 0) continue;                                          /* not a marker */
         if (marker == 0xd9 || marker == 0xda) break;                        /* EOI, SOS */
         if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) continue; /* no length */
         if (fread(h, 1, 2, f) != 2) break;
