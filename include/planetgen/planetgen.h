@@ -125,7 +125,7 @@
 #include "planetgen/pg_view.h"
 #include "planetgen/pg_views.h"
 
-/* MPI distribution (a stub that runs one process when built without MPI) */
+/* MPI distribution (built without MPI: one process; mpirun with more ranks is refused) */
 #include "planetgen/pg_mpi.h"
 
 #endif

@@ -33,24 +33,24 @@ static uint8_t pg_plates_kind_at(const pg_plates_grid *g, const uint8_t *plate,
         int64_t q = g->nbr[8 * t + d];
         if (plate[q] == a) continue;
         const double *pq = g->dir + 3 * q;
-        double c = pg_plates_dot(pq, p),
+        double c = pg_vec3_dot(pq, p),
                tq[3] = {pq[0] - c * p[0], pq[1] - c * p[1], pq[2] - c * p[2]};
-        pg_plates_normalize(tq);
+        pg_vec3_normalize(tq);
         double v[3];
-        pg_plates_cross(omega[plate[q]], p, v);
+        pg_vec3_cross(omega[plate[q]], p, v);
         for (int i = 0; i < 3; i++) {
             nrm[i] += tq[i];
             vb[i] += v[i];
         }
         others++;
     }
-    pg_plates_normalize(nrm);
-    pg_plates_cross(omega[a], p, va);
+    pg_vec3_normalize(nrm);
+    pg_vec3_cross(omega[a], p, va);
     double v[3];
     for (int i = 0; i < 3; i++)
         v[i] = vb[i] / others - va[i];
-    double vn = pg_plates_dot(v, nrm);
-    double vt2 = pg_plates_dot(v, v) - vn * vn;
+    double vn = pg_vec3_dot(v, nrm);
+    double vt2 = pg_vec3_dot(v, v) - vn * vn;
     double vt = sqrt(fmax(0, vt2));
     if (fabs(vn) < PG_PLATES_TRANSFORM_RATIO * vt || (vn == 0 && vt == 0))
         return PG_PLATES_TRANSFORM;

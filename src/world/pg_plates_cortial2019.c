@@ -111,7 +111,7 @@ static void pg_plates_to_world(const pg_plates_sim *m, int k, const double b[3],
 /* R_k <- Rot(omega_k dt) R_k, column by column. */
 static void pg_plates_advance(pg_plates_sim *m, int k, double dt) {
     const double *om = m->w->plates[k].omega;
-    double rate = sqrt(pg_plates_dot(om, om));
+    double rate = sqrt(pg_vec3_dot(om, om));
     if (rate == 0) return;
     double axis[3] = {om[0] / rate, om[1] / rate, om[2] / rate};
     for (int c = 0; c < 3; c++) {
@@ -351,7 +351,7 @@ static void pg_plates_collide(pg_plates_sim *m, const pg_plates_state *s) {
         const pg_plates_plate *J = &m->w->plates[j];
         for (int i = 0; i < 3; i++)
             K->omega[i] = J->omega[i] + PG_PLATES_SLOWDOWN * (K->omega[i] - J->omega[i]);
-        K->speed_cm_yr = sqrt(pg_plates_dot(K->omega, K->omega)) * g->radius_km / 10;
+        K->speed_cm_yr = sqrt(pg_vec3_dot(K->omega, K->omega)) * g->radius_km / 10;
     }
 }
 

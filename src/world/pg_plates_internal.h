@@ -15,6 +15,7 @@
 #define PG_PLATES_INTERNAL_H
 
 #include "planetgen/pg_plates.h"
+#include "pg_vec3.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -56,28 +57,12 @@ void pg_plates_random_dir(uint64_t seed, uint64_t stream, uint64_t index, double
  * `octaves` octaves (gain 0.5, lacunarity 2). */
 double pg_plates_fbm(uint64_t seed, uint64_t stream, const double p[3], double freq, int octaves);
 
-/* ---- vectors ---- */
-static inline double pg_plates_dot(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static inline void pg_plates_cross(const double a[3], const double b[3], double o[3]) {
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static inline void pg_plates_normalize(double v[3]) {
-    double l = sqrt(pg_plates_dot(v, v));
-    if (l > 0) {
-        v[0] /= l;
-        v[1] /= l;
-        v[2] /= l;
-    }
-}
+/* ---- vectors (pg_vec3.h) ---- */
 /* Angle in radians between unit vectors. */
 static inline double pg_plates_angle(const double a[3], const double b[3]) {
     double c[3];
-    pg_plates_cross(a, b, c);
-    return atan2(sqrt(pg_plates_dot(c, c)), pg_plates_dot(a, b));
+    pg_vec3_cross(a, b, c);
+    return atan2(sqrt(pg_vec3_dot(c, c)), pg_vec3_dot(a, b));
 }
 /* Rotate v by angle `ang` about the unit axis k (Rodrigues). */
 void pg_plates_rotate(const double k[3], double ang, const double v[3], double out[3]);

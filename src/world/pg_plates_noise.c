@@ -75,8 +75,8 @@ double pg_plates_fbm(uint64_t seed, uint64_t stream, const double p[3], double f
 
 void pg_plates_rotate(const double k[3], double ang, const double v[3], double out[3]) {
     double c = cos(ang), s = sin(ang), kv[3];
-    pg_plates_cross(k, v, kv);
-    double kd = pg_plates_dot(k, v) * (1 - c);
+    pg_vec3_cross(k, v, kv);
+    double kd = pg_vec3_dot(k, v) * (1 - c);
     for (int i = 0; i < 3; i++)
         out[i] = v[i] * c + kv[i] * s + k[i] * kd;
 }

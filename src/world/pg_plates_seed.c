@@ -36,7 +36,7 @@ static void pg_plates_warp(uint64_t seed, uint64_t stream, const double p[3], do
                            double freq, int octaves, double out[3]) {
     for (int k = 0; k < 3; k++)
         out[k] = p[k] + amp * pg_plates_fbm(seed, stream + 4 * (uint64_t)k, p, freq, octaves);
-    pg_plates_normalize(out);
+    pg_vec3_normalize(out);
 }
 
 static void pg_plates_grow(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
