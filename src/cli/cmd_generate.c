@@ -42,8 +42,9 @@ typedef struct gen_inputs {
     gen_world world; /* layout world: the macro world, its guide and type map */
 } gen_inputs;
 
+/* layout world is the default, except that a guide alone asks for layout free */
 static bool is_world(const gen_args *a) {
-    return a->layout && !strcmp(a->layout, "world");
+    return a->layout ? !strcmp(a->layout, "world") : !a->guide;
 }
 
 static int validate(pg_cli *cli, const gen_args *a) {
@@ -76,11 +77,7 @@ static pg_status load_inputs(const gen_args *a, gen_inputs *in, pg_error *err) {
         st = pg_types_map_load(a->types, &in->types, err);
         in->has_types = !st;
     }
-    gen_world_init(&in->world);
-    if (!st && is_world(a)) {
-        st = gen_world_build(a, &in->world, err);
-        in->has_world = !st;
-    }
+    gen_world_init(&in->world); /* built once the exemplar is ready (build_world) */
     return st;
 }
 
@@ -108,8 +105,9 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->synth.jitter = a->jitter;
     p->synth.passes = (int)a->passes;
     /* with a guide and no explicit layout, the sketch gives the arrangement */
-    p->layout = a->layout ? (!strcmp(a->layout, "free") ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH)
-                          : (a->guide ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH);
+    p->layout = is_world(a)                                ? PG_LAYOUT_WORLD
+                : a->layout && !strcmp(a->layout, "earth") ? PG_LAYOUT_EARTH
+                                                           : PG_LAYOUT_FREE;
     p->keep_levels = (int)a->keep_levels;
     p->guide = in->has_guide ? &in->guide : NULL;
     p->guide_alpha = a->guide_weight >= 0 ? a->guide_weight : GEN_GUIDE_WEIGHT;
@@ -344,6 +342,18 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_cli_stage_end(cli);
     gen_loud(hushed);
     pg_error err = {0};
+    if (is_world(a)) {
+        /* the macro world takes the exemplar's hypsometry, so it comes after it */
+        pg_cli_stage_begin(cli, "plates and climate");
+        pg_status ws = gen_world_build(a, ex, &in->world, &err);
+        pg_cli_stage_end(cli);
+        if (ws) {
+            pg_synth_exemplar_free(ex);
+            return gen_fail_all(cli, g, &err);
+        }
+        in->has_world = true;
+        set_world(a, in, &p);
+    }
     pg_planet_synth_dist dist;
     if (g->mpi) {
         pg_mpi_synth_dist(g->mpi, (int)a->tiles, &dist);
@@ -382,7 +392,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
          * a distributed run cannot compute the share without gathering the level, and
          * the layout's files must be the same bytes for any rank count. */
         planet.closed_land_share_before_final = NAN;
-        rc = gen_write_tiled(cli, a, g, &planet);
+        rc = gen_write_tiled(cli, a, g, &planet, in->has_world ? &in->world : NULL);
     } else {
         pg_cli_stage_begin(cli, "write planet");
         path_ctx pc = {cli, a->outdir};

@@ -123,10 +123,11 @@ void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
     free(rss);
 }
 
-/* The tiled layout: this process's tiles (all of them in one process), then, once
- * every rank has renamed its tiles into place, index.json from rank 0 - the mark
- * that the directory is complete. */
-int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet) {
+/* The tiled layout: this process's tiles (all of them in one process) and, from rank 0,
+ * the macro world's files (layout world), then, once every rank has renamed its files
+ * into place, index.json from rank 0 - the mark that the directory is complete. */
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet,
+                    const gen_world *world) {
     const int n = 6 * planet->tiles * planet->tiles;
     path_ctx pc = {cli, a->outdir};
     pg_error err = {0};
@@ -134,6 +135,7 @@ int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet 
     pg_status st =
         pg_planet_save_tiles(planet, pg_mpi_tile_first(n, g->size, g->rank),
                              pg_mpi_tile_first(n, g->size, g->rank + 1), gen_path_for, &pc, &err);
+    if (!st && world && g->rank == 0) st = gen_world_write(cli, a, world, &err);
     pg_cli_stage_end(cli);
     if (st) return gen_fail_all(cli, g, &err);
     if (g->mpi) {

@@ -16,6 +16,7 @@
 #define GEN_WORLD_N 64           /* macro texels per face edge (about 140 km) */
 #define GEN_WORLD_MAP_WIDTH 1024 /* the guide and type map, equirectangular */
 #define GEN_WORLD_PREVIEW_WIDTH 1024
+#define GEN_WORLD_QUANTILES 1001 /* the exemplar's hypsometry, per mille */
 
 void gen_world_init(gen_world *w) {
     memset(w, 0, sizeof *w);
@@ -30,7 +31,20 @@ void gen_world_free(gen_world *w) {
     pg_types_map_free(&w->types);
 }
 
-pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
+/* The plates' heights take the exemplar's hypsometry (pg_plates_match_hypsometry). */
+static pg_status match_exemplar(const pg_synth_exemplar *ex, pg_plates_world *pw, pg_error *err) {
+    float *q = malloc(2 * GEN_WORLD_QUANTILES * sizeof *q);
+    if (!q) return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    pg_status st = pg_planet_world_exemplar_hypsometry(ex, GEN_WORLD_N, GEN_WORLD_QUANTILES, q,
+                                                       q + GEN_WORLD_QUANTILES, err);
+    pg_plates_hypsometry h = {GEN_WORLD_QUANTILES, q, q + GEN_WORLD_QUANTILES};
+    if (!st) st = pg_plates_match_hypsometry(pw, &h, err);
+    free(q);
+    return st;
+}
+
+pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_world *w,
+                          pg_error *err) {
     pg_plates_params pp;
     pg_plates_params_default(&pp);
     pp.seed = (uint64_t)a->seed;
@@ -38,6 +52,7 @@ pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
     pp.plates = (int)a->plates;
     pp.land_fraction = a->land_fraction;
     pg_status st = pg_plates_generate(&pp, &w->plates, err);
+    if (!st) st = match_exemplar(ex, &w->plates, err);
     if (!st) st = pg_plates_stats_compute(&w->plates, &w->stats, err);
     pg_climate_params cp;
     pg_climate_params_default(&cp);
