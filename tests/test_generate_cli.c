@@ -155,9 +155,11 @@ static void test_small_planet(void **state) {
              getenv("PG_BUILD_DIR"), dir, dir);
     int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
     if (rc != 0) fail_msg("exit %d: %s", rc, err);
-    const char *files[] = {"planet.json",   "height.exr", "albedo_+X.png",
-                           "albedo_-Z.png", "albedo.png", "relief.png"};
-    for (int i = 0; i < 6; i++) {
+    /* the default layout is world: its macro fields are written too */
+    const char *files[] = {"planet.json",   "height.exr",  "albedo_+X.png",
+                           "albedo_-Z.png", "albedo.png",  "relief.png",
+                           "plates.png",    "climate.png", "world.exr"};
+    for (int i = 0; i < 9; i++) {
         snprintf(path, sizeof path, "%s/p/%s", dir, files[i]);
         if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
     }
@@ -172,6 +174,18 @@ static void test_small_planet(void **state) {
     assert_non_null(after);
     assert_non_null(strstr(after, "\"depressions\": 0"));
     assert_non_null(strstr(json, "\"land_agreement\""));
+    /* planet.json says how the planet was made */
+    snprintf(path, sizeof path, "%s/p/planet.json", dir);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    n = fread(json, 1, sizeof json - 1, f);
+    json[n] = 0;
+    fclose(f);
+    const char *gen = strstr(json, "\"generation\"");
+    if (!gen) fail_msg("planet.json has no generation record: %s", json);
+    assert_non_null(strstr(gen, "\"layout\": \"world\""));
+    assert_non_null(strstr(gen, "\"plates\": 14"));
+    assert_non_null(strstr(gen, "\"land_fraction\": 0.29"));
 }
 
 int main(void) {

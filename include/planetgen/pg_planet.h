@@ -42,6 +42,17 @@ typedef struct pg_planet_source {
     uint32_t *coords[PG_CUBE_NFACES]; /* n*n, pg_synth_pack(face, u, v), orientation 0 */
 } pg_planet_source;
 
+/* How the planet was made, as planet.json's "generation" records it (docs/generate.md,
+ * "Outputs"): the layout, and for layout world the macro world's parameters. An empty
+ * layout (as pg_planet_alloc leaves it) writes no record. */
+typedef struct pg_planet_generation {
+    char layout[16]; /* "world", "earth" or "free" */
+    int plates;      /* layout world: the others leave 0 and the figures below unset */
+    double land_fraction, axial_tilt_deg, temperature_offset_K;
+    double jitter;
+    int passes;
+} pg_planet_generation;
+
 typedef struct pg_planet {
     int tiles, tile_size;
     int64_t n; /* texels per face edge: tiles * tile_size */
@@ -56,6 +67,7 @@ typedef struct pg_planet {
     /* Share of land area (above sea_level) that drained into closed basins, not the sea,
      * before the final pit pass (pg_drainage_closed_land_share); NaN when unknown. */
     double closed_land_share_before_final;
+    pg_planet_generation generation;
 } pg_planet;
 
 /* Allocate the faces (zeroed) and set the geometry. */

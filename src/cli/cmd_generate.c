@@ -320,6 +320,24 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     }
 }
 
+/* planet.json's "generation" record */
+static void record_generation(const gen_args *a, const pg_planet_synth_params *p,
+                              pg_planet_generation *g) {
+    memset(g, 0, sizeof *g);
+    snprintf(g->layout, sizeof g->layout, "%s",
+             p->layout == PG_LAYOUT_WORLD   ? "world"
+             : p->layout == PG_LAYOUT_EARTH ? "earth"
+                                            : "free");
+    if (p->layout == PG_LAYOUT_WORLD) {
+        g->plates = (int)a->plates;
+        g->land_fraction = a->land_fraction;
+        g->axial_tilt_deg = a->axial_tilt;
+        g->temperature_offset_K = a->temperature_offset;
+    }
+    g->jitter = a->jitter;
+    g->passes = (int)a->passes;
+}
+
 static void on_progress(void *user, double frac) {
     pg_cli_progress(user, frac);
 }
@@ -385,6 +403,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
         pg_planet_free(&planet);
         return pg_cli_fail(cli, &err);
     }
+    record_generation(a, &p, &planet.generation);
     src_name[sizeof planet.exemplar - 1] = 0;
     memcpy(planet.exemplar, src_name, sizeof planet.exemplar);
     if (g->tiled) {

@@ -158,6 +158,19 @@ pg_json *pg_planet_meta_json(const pg_planet *p) {
     pg_json_set_string(j, "exemplar", p->exemplar);
     if (isfinite(p->closed_land_share_before_final))
         pg_json_set_number(j, "closed_land_share_before_final", p->closed_land_share_before_final);
+    const pg_planet_generation *g = &p->generation;
+    if (g->layout[0]) {
+        pg_json *o = pg_json_set_object(j, "generation");
+        pg_json_set_string(o, "layout", g->layout);
+        if (g->plates > 0) {
+            pg_json_set_number(o, "plates", g->plates);
+            pg_json_set_number(o, "land_fraction", g->land_fraction);
+            pg_json_set_number(o, "axial_tilt_deg", g->axial_tilt_deg);
+            pg_json_set_number(o, "temperature_offset_K", g->temperature_offset_K);
+        }
+        pg_json_set_number(o, "jitter", g->jitter);
+        pg_json_set_number(o, "passes", g->passes);
+    }
     return j;
 }
 
