@@ -42,7 +42,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
     pits_rheap r = {0};
     for (size_t i = 0; i < q.n; i++)
         pits_rheap_push(&r, (uint32_t)(q.a[i] >> 32), pits_key_id(q.a[i]));
-    q.n = 0;
+    pits_heap_free(&q); /* the sinks now live in r */
     uint32_t nb[8];
     while ((r.size || !pits_fifo_empty(&pit)) && !r.oom && !pit.oom) {
         uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_rheap_pop(&r));

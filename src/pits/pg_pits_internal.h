@@ -156,6 +156,9 @@ typedef struct pits_rheap {
 
 void pits_rheap_free(pits_rheap *r);
 void pits_rheap_grow(pits_rheap *r, int bucket);
+/* Frees an emptied bucket's storage, so that the buckets' capacities add up to about
+ * the entries they hold, not to each bucket's largest size so far. */
+void pits_rheap_release(pits_rheap *r, int bucket);
 
 static inline int pits_rheap_bucket(uint32_t key, uint32_t last) {
     return key == last ? 0 : 32 - __builtin_clz(key ^ last);
@@ -191,6 +194,7 @@ static inline void pits_rheap_refill(pits_rheap *r) {
         }
         r->b[j][r->n[j]++] = e[k];
     }
+    if (r->cap[i] > 4096) pits_rheap_release(r, i); /* its entries now live below */
 }
 
 /* The smallest key (ordered bits) without removing it; the heap is not empty. */
@@ -258,8 +262,8 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
  * id) says whether the flood may set a cell (not a sink, inside the region); NULL:
  * ctx is the state array, the PITS_OPEN cells are settable, and every other cell must
  * have w == floor (flood_rest sets them so). q holds
- * the sources' keys (height -inf for sinks), in any order (q->a is read, not popped;
- * q->n is 0 on return). Returns nonzero when out of memory. */
+ * the sources' keys (height -inf for sinks), in any order (q->a is read, then freed:
+ * q is empty on return). Returns nonzero when out of memory. */
 typedef struct pits_meps {
     const pg_pits_topo *t;
     float *w;

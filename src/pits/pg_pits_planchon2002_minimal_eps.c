@@ -53,7 +53,9 @@ static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
     const float *floor_ = m->floor;
     for (size_t i = 0; i < q->n && !r.oom; i++)
         pits_rheap_push(&r, (uint32_t)(q->a[i] >> 32), pits_key_id(q->a[i]));
-    q->n = 0;
+    int seed_oom = q->oom;
+    pits_heap_free(q); /* the sources now live in r: not both at once */
+    q->oom = seed_oom;
     while ((r.size || !pits_fifo_empty(&fifo)) && !r.oom && !fifo.oom) {
         uint32_t c, kord;
         if (!pits_fifo_empty(&fifo) &&

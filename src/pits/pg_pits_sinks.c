@@ -62,6 +62,12 @@ void pits_rheap_grow(pits_rheap *r, int bucket) {
     if (PG_ARRAY_RESERVE(r->b[bucket], &r->cap[bucket], r->n[bucket] + 1, NULL)) r->oom = 1;
 }
 
+void pits_rheap_release(pits_rheap *r, int bucket) {
+    free(r->b[bucket]);
+    r->b[bucket] = NULL;
+    r->cap[bucket] = 0;
+}
+
 void pits_fifo_free(pits_fifo *f) {
     free(f->a);
     f->a = NULL;
