@@ -133,7 +133,7 @@ typedef struct pg_planet_synth_dist {
 typedef struct pg_planet_synth_params {
     int tiles, tile_size;        /* T, S; S must be a multiple of 2^(levels-1) */
     pg_synth_params synth;       /* seed, jitter, passes, ... (tile_size ignored) */
-    pg_planet_layout layout;     /* default earth */
+    pg_planet_layout layout;     /* default earth (world needs `world` set; the CLI's default) */
     int keep_levels;             /* layout earth: top levels without jitter; default
                                     PG_PLANET_KEEP_AUTO (pg_planet_synth_keep_levels) */
     const pg_guide *guide;       /* NULL: none */

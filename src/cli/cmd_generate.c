@@ -458,10 +458,10 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 1, 1 << 20, NULL, "S",
          "texels per tile edge, a power of two, multiple of 32 (256)"},
         {"--seed", NULL, PG_OPT_INT, &a.seed, 0, 9007199254740992.0, NULL, "N", "random seed (1)"},
-        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "earth|free|world", "L",
-         "earth: continents where Earth has them; free: a new arrangement; world: a new "
-         "Earth-like planet from plate tectonics and climate, amplified by example (default "
-         "earth, or free with --guide)"},
+        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "world|earth|free", "L",
+         "world: a new Earth-like planet from plate tectonics and climate, amplified by "
+         "example; earth: Earth re-textured, continents where Earth has them; free: a new "
+         "arrangement without plates or climate (default world, or free with --guide)"},
         {"--plates", NULL, PG_OPT_INT, &a.plates, PG_PLATES_MIN, PG_PLATES_MAX, NULL, "N",
          "layout world: tectonic plates (14)"},
         {"--land-fraction", NULL, PG_OPT_DOUBLE, &a.land_fraction, 0.05, 0.95, NULL, "F",
