@@ -13,38 +13,13 @@
 #include "planetgen/pg_raster.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #define RELIEF "/usr/share/marble/data/maps/earth/srtm/3/000002/000002_000005.jpg"
 
 static char dir[1024];
-
-/* Run a shell command (printf-style); its stdout into out (may be NULL). */
-static int sh(char *out, size_t size, const char *fmt, ...) {
-    char cmd[8192];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    FILE *f = popen(cmd, "r");
-    if (!f) return -1;
-    char tmp[4096];
-    size_t n = 0, k;
-    while ((k = fread(tmp, 1, sizeof tmp, f)) > 0) {
-        if (out && n + 1 < size) {
-            size_t c = k < size - 1 - n ? k : size - 1 - n;
-            memcpy(out + n, tmp, c);
-            n += c;
-        }
-    }
-    if (out) out[n] = '\0';
-    int st = pclose(f);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
 
 /* The part of a gdalinfo report from `from` to the end of its line (or to `to`). */
 static void section(const char *info, const char *from, const char *to, char *out, size_t size) {
@@ -61,8 +36,8 @@ static void section(const char *info, const char *from, const char *to, char *ou
  * string. */
 static void same_georeferencing(const char *in, const char *out) {
     static char a[65536], b[65536];
-    assert_int_equal(sh(a, sizeof a, "gdalinfo '%s'", in), 0);
-    assert_int_equal(sh(b, sizeof b, "gdalinfo '%s'", out), 0);
+    assert_int_equal(pg_test_sh(a, sizeof a, "gdalinfo '%s'", in), 0);
+    assert_int_equal(pg_test_sh(b, sizeof b, "gdalinfo '%s'", out), 0);
     const char *keys[][2] = {{"Origin = ", NULL},
                              {"Pixel Size = ", NULL},
                              {"NoData Value=", NULL},
@@ -70,8 +45,8 @@ static void same_georeferencing(const char *in, const char *out) {
     size_t nkeys = strstr(a, "Driver: GTiff") ? 4 : 3;
     if (nkeys == 3) {
         char pa[1024], pb[1024];
-        assert_int_equal(sh(pa, sizeof pa, "gdalsrsinfo -o proj4 '%s'", in), 0);
-        assert_int_equal(sh(pb, sizeof pb, "gdalsrsinfo -o proj4 '%s'", out), 0);
+        assert_int_equal(pg_test_sh(pa, sizeof pa, "gdalsrsinfo -o proj4 '%s'", in), 0);
+        assert_int_equal(pg_test_sh(pb, sizeof pb, "gdalsrsinfo -o proj4 '%s'", out), 0);
         printf("CRS %s", pb);
         assert_true(strstr(pa, "+proj=") != NULL);
         assert_string_equal(pa, pb);
@@ -98,18 +73,20 @@ static int setup(void **state) {
     pg_test_scratch_dir("pits_gdal", dir, sizeof dir);
     /* the tile as a GeoTIFF on WGS84, then a window reaching 1 degree past its west and
      * north edges, which GDAL fills with NoData: a real DEM with a NoData margin */
-    if (sh(NULL, 0,
-           "cd '%s' && gdal_translate -q -ot Float32 -a_srs EPSG:4326 -a_ullr 0 45 22.5 22.5 "
-           "-a_nodata -9999 '%s' raw.tif && gdal_translate -q -projwin -1 46 22.5 22.5 raw.tif "
-           "dem.tif && cp '%s' plain.jpg",
-           dir, RELIEF, RELIEF) != 0)
+    if (pg_test_sh(
+            NULL, 0,
+            "cd '%s' && gdal_translate -q -ot Float32 -a_srs EPSG:4326 -a_ullr 0 45 22.5 22.5 "
+            "-a_nodata -9999 '%s' raw.tif && gdal_translate -q -projwin -1 46 22.5 22.5 raw.tif "
+            "dem.tif && cp '%s' plain.jpg",
+            dir, RELIEF, RELIEF) != 0)
         return -1;
     /* an SRTM tile (int16, NoData -32768) and an Arc/Info ASCII grid with its .prj */
-    if (sh(NULL, 0,
-           "cd '%s' && gdal_translate -q -ot Int16 -outsize 1201 1201 -a_ullr 9.99958333333 "
-           "47.00041666667 11.00041666667 45.99958333333 -of SRTMHGT raw.tif N46E010.hgt && "
-           "gdal_translate -q -of AAIGrid raw.tif grid.asc",
-           dir) != 0)
+    if (pg_test_sh(
+            NULL, 0,
+            "cd '%s' && gdal_translate -q -ot Int16 -outsize 1201 1201 -a_ullr 9.99958333333 "
+            "47.00041666667 11.00041666667 45.99958333333 -of SRTMHGT raw.tif N46E010.hgt && "
+            "gdal_translate -q -of AAIGrid raw.tif grid.asc",
+            dir) != 0)
         return -1;
     return 0;
 }
@@ -145,15 +122,16 @@ static void test_geotiff_keeps_georeferencing(void **state) {
     assert_int_equal(nodata, 705 * 705 - 675 * 675);
     assert_true(lowered > 1000);
     char js[16384];
-    assert_int_equal(sh(js, sizeof js, "cat '%s/b.json'", dir), 0);
+    assert_int_equal(pg_test_sh(js, sizeof js, "cat '%s/b.json'", dir), 0);
     assert_true(pg_test_json_number(strstr(js, "\"before\""), "depressions") > 1000);
     assert_true(pg_test_json_number(strstr(js, "\"after\""), "depressions") == 0);
     assert_true(pg_test_json_number(js, "nodata") == -9999);
     /* gdallocationinfo reads the carved DEM where the input has NoData and land */
     char v[65536];
-    assert_int_equal(sh(v, sizeof v, "gdalinfo '%s'", out), 0);
+    assert_int_equal(pg_test_sh(v, sizeof v, "gdalinfo '%s'", out), 0);
     assert_non_null(strstr(v, "ID[\"EPSG\",4326]]"));
-    assert_int_equal(sh(v, sizeof v, "gdallocationinfo -valonly -geoloc '%s' -0.5 45.5", out), 0);
+    assert_int_equal(
+        pg_test_sh(v, sizeof v, "gdallocationinfo -valonly -geoloc '%s' -0.5 45.5", out), 0);
     assert_true(atof(v) == -9999);
     pg_image_free(&a), pg_image_free(&b);
     pg_georef_free(&ga), pg_georef_free(&gb);
@@ -167,7 +145,7 @@ static void test_cell_areas(void **state) {
     snprintf(args, sizeof args, "pits --stats '%s/dem.tif' --sea-level 10 --json '%s/s.json'", dir,
              dir);
     assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
-    assert_int_equal(sh(js, sizeof js, "cat '%s/s.json'", dir), 0);
+    assert_int_equal(pg_test_sh(js, sizeof js, "cat '%s/s.json'", dir), 0);
     double area = pg_test_json_number(js, "depression_area_m2"),
            cells = pg_test_json_number(js, "depression_cells");
     pg_ellipsoid w = pg_ellipsoid_wgs84();
@@ -181,7 +159,7 @@ static void test_cell_areas(void **state) {
              "cd '%s' && gdal_translate -q -ot Float32 -a_srs EPSG:32632 -a_ullr 500000 5200000 "
              "530000 5170000 '%s' utm.tif",
              dir, RELIEF);
-    assert_int_equal(sh(NULL, 0, "%s", args), 0);
+    assert_int_equal(pg_test_sh(NULL, 0, "%s", args), 0);
     const char *runs[2] = {"", "--cell-size 7"};
     const double want[2] = {(30000.0 / 675) * (30000.0 / 675), 49};
     for (int k = 0; k < 2; k++) {
@@ -189,7 +167,7 @@ static void test_cell_areas(void **state) {
                  "pits --stats '%s/utm.tif' --sea-level 10 %s --json '%s/u.json'", dir, runs[k],
                  dir);
         assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
-        assert_int_equal(sh(js, sizeof js, "cat '%s/u.json'", dir), 0);
+        assert_int_equal(pg_test_sh(js, sizeof js, "cat '%s/u.json'", dir), 0);
         double a = pg_test_json_number(js, "depression_area_m2"),
                c = pg_test_json_number(js, "depression_cells");
         printf("%s: %.9g m^2 per cell\n", runs[k], a / c);
@@ -212,7 +190,7 @@ static void test_hgt_and_asc(void **state) {
         assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
         same_georeferencing(in, out);
         char v[65536];
-        assert_int_equal(sh(v, sizeof v, "gdalinfo '%s'", out), 0);
+        assert_int_equal(pg_test_sh(v, sizeof v, "gdalinfo '%s'", out), 0);
         assert_non_null(strstr(v, "Type=Float32"));
     }
     char ref[1200];
@@ -239,13 +217,13 @@ static void test_creation_options(void **state) {
              "--co BLOCKYSIZE=128 --co COMPRESS=LZW",
              dir, dir);
     assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
-    assert_int_equal(sh(v, sizeof v, "gdalinfo '%s/tiled.tif'", dir), 0);
+    assert_int_equal(pg_test_sh(v, sizeof v, "gdalinfo '%s/tiled.tif'", dir), 0);
     assert_non_null(strstr(v, "Block=128x128"));
     assert_non_null(strstr(v, "COMPRESSION=LZW"));
     snprintf(args, sizeof args, "pits -q '%s/dem.tif' -o '%s/cog.tif' --cog --co COMPRESS=ZSTD",
              dir, dir);
     assert_int_equal(pg_test_run_cli(args, NULL, 0, se, sizeof se), 0);
-    assert_int_equal(sh(v, sizeof v, "gdalinfo '%s/cog.tif'", dir), 0);
+    assert_int_equal(pg_test_sh(v, sizeof v, "gdalinfo '%s/cog.tif'", dir), 0);
     assert_non_null(strstr(v, "LAYOUT=COG"));
     assert_non_null(strstr(v, "COMPRESSION=ZSTD"));
     same_georeferencing(strcat(strcpy(se, dir), "/dem.tif"), strcat(strcpy(v, dir), "/cog.tif"));
@@ -254,7 +232,7 @@ static void test_creation_options(void **state) {
 static void expect_refusal(const char *args_fmt, const char *needle) {
     char out_dir[1200], args[4096], se[4096];
     snprintf(out_dir, sizeof out_dir, "%s/bad", dir);
-    assert_int_equal(sh(NULL, 0, "rm -rf '%s' && mkdir '%s'", out_dir, out_dir), 0);
+    assert_int_equal(pg_test_sh(NULL, 0, "rm -rf '%s' && mkdir '%s'", out_dir, out_dir), 0);
     snprintf(args, sizeof args, args_fmt, dir, out_dir);
     int rc = pg_test_run_cli(args, NULL, 0, se, sizeof se);
     printf("%s\n -> %d: %s", args, rc, se);
@@ -269,7 +247,8 @@ static void expect_refusal(const char *args_fmt, const char *needle) {
  * one line naming the file or option, nothing written. */
 static void test_bad_input(void **state) {
     (void)state;
-    assert_int_equal(sh(NULL, 0, "cd '%s' && printf 'not elevation' > N00E000.hgt", dir), 0);
+    assert_int_equal(pg_test_sh(NULL, 0, "cd '%s' && printf 'not elevation' > N00E000.hgt", dir),
+                     0);
     expect_refusal("pits '%s/N00E000.hgt' -o '%s/o.tif'", "N00E000.hgt: not a raster GDAL");
     expect_refusal("pits --global '%s/dem.tif' -o '%s/o.tif'", "whole-globe geographic grid");
     expect_refusal("pits --stats '%s/dem.tif' --global%.0s", "whole-globe");

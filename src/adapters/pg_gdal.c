@@ -18,6 +18,7 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <gdal_utils.h>
 #include <ogr_srs_api.h>
@@ -398,8 +399,11 @@ pg_status pg_raster_geographic_crs(double a, double f, pg_georef *geo, pg_error 
         e = OSRImportFromEPSG(srs, 4326);
     } else {
         char name[96];
-        snprintf(name, sizeof name, "planetgen planet (a = %.1f m, 1/f = %.9g)", a,
-                 f > 0 ? 1 / f : 0.0);
+        if (f > 0)
+            snprintf(name, sizeof name, "planetgen planet (ellipsoid a = %.3f m, 1/f = %.9g)", a,
+                     1 / f);
+        else
+            snprintf(name, sizeof name, "planetgen planet (sphere r = %.3f m)", a);
         e = OSRSetGeogCS(srs, name, "planetgen planet datum",
                          f > 0 ? "planetgen ellipsoid" : "planetgen sphere", a, f > 0 ? 1 / f : 0.0,
                          "Reference meridian", 0.0, SRS_UA_DEGREE, atof(SRS_UA_DEGREE_CONV));
@@ -418,22 +422,41 @@ pg_status pg_raster_geographic_crs(double a, double f, pg_georef *geo, pg_error 
     return st;
 }
 
+/* GDAL writes a source as relative to the VRT only when the source's name exists at
+ * the time. The staged sources get their final names only when the command succeeds,
+ * so the VRT is built in a private /vsimem/ directory where empty placeholders carry
+ * the final names, then its bytes (GDAL's XML, untouched) are copied to path. */
+static pg_status vsimem_touch(const char *name, pg_error *err) {
+    VSILFILE *f = VSIFOpenL(name, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_NOMEM, "%s: cannot create in memory", name);
+    VSIFCloseL(f);
+    return PG_OK;
+}
+
+static pg_status copy_out(const char *mem, const char *path, gdal_msgs *m, pg_error *err) {
+    vsi_l_offset len = 0;
+    GByte *buf = VSIGetMemFileBuffer(mem, &len, FALSE);
+    if (!buf)
+        return pg_error_set(err, PG_ERR_IO, "%s: cannot write the VRT (%s)", path,
+                            why(m, "GDALBuildVRT wrote nothing"));
+    FILE *f = fopen(path, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write", path);
+    size_t w = fwrite(buf, 1, (size_t)len, f);
+    if (fclose(f) != 0 || w != (size_t)len)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    return PG_OK;
+}
+
 pg_status pg_raster_build_vrt(const char *path, int n, const char *const *src,
                               const char *const *names, pg_error *err) {
     gdal_msgs m;
     gdal_begin(&m);
+    char dir[96], full[4200], vrt_mem[128];
+    snprintf(dir, sizeof dir, "/vsimem/planetgen_vrt_%p", (void *)&m); /* unique per call */
+    snprintf(vrt_mem, sizeof vrt_mem, "%s/mosaic.vrt", dir);
     pg_status st = PG_OK;
     GDALDatasetH *ds = calloc((size_t)n, sizeof *ds);
     if (!ds) st = pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", path);
-    /* The VRT names each source by its description: the final name, relative to the
-     * VRT's directory, not the staged path it is opened from. */
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", path);
-    char *slash = strrchr(dir, '/');
-    if (slash)
-        slash[1] = '\0';
-    else
-        dir[0] = '\0';
     for (int i = 0; st == PG_OK && i < n; i++) {
         ds[i] = GDALOpenEx(src[i], GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
         if (!ds[i]) {
@@ -441,23 +464,25 @@ pg_status pg_raster_build_vrt(const char *path, int n, const char *const *src,
                               why(&m, "GDAL failed"));
             break;
         }
-        char full[4400];
-        snprintf(full, sizeof full, "%s%s", dir, names[i]);
-        GDALSetDescription(ds[i], full);
+        snprintf(full, sizeof full, "%s/%s", dir, names[i]);
+        st = vsimem_touch(full, err);
+        GDALSetDescription(ds[i], full); /* the VRT names the source by this */
     }
     if (st == PG_OK) {
         GDALBuildVRTOptions *vo = GDALBuildVRTOptionsNew(NULL, NULL);
         int usage = 0;
-        GDALDatasetH vrt = vo ? GDALBuildVRT(path, n, ds, NULL, vo, &usage) : NULL;
+        GDALDatasetH vrt = vo ? GDALBuildVRT(vrt_mem, n, ds, NULL, vo, &usage) : NULL;
         if (vo) GDALBuildVRTOptionsFree(vo);
         if (vrt) GDALClose(vrt); /* writes the XML */
         if (!vrt || usage || m.error[0])
             st = pg_error_set(err, PG_ERR_IO, "%s: cannot write the VRT (%s)", path,
                               why(&m, "GDALBuildVRT failed"));
     }
+    if (st == PG_OK) st = copy_out(vrt_mem, path, &m, err);
     for (int i = 0; ds && i < n; i++)
         if (ds[i]) GDALClose(ds[i]);
     free(ds);
+    VSIRmdirRecursive(dir);
     gdal_end();
     return st;
 }
