@@ -18,6 +18,18 @@
  *   globe_north.png, globe_south.png, globe_lon000.png, globe_lon180.png
  *                        orthographic renders from above the poles and above the
  *                        equator at longitudes 0 and 180
+ *   height.tif, albedo.tif   with o->geotiff: the planet as GIS rasters, written by
+ *                        GDAL (pg_raster.h): equirectangular, 4N x 2N pixels (N the
+ *                        face's texels), resampled from the cube by
+ *                        pg_cube_faces_to_equirect; heights float32 metres with a
+ *                        NoData tag, albedo 8-bit sRGB RGB. The CRS is EPSG:4326 for
+ *                        a WGS84 planet, else latitude/longitude on the planet's own
+ *                        sphere or ellipsoid; extent -180..180, -90..90.
+ *   height_R_C.tif, albedo_R_C.tif, height.vrt, albedo.vrt
+ *                        with o->geotiff_tiled instead: the same rasters cut into
+ *                        4T x 2T tiles of S x S pixels (row R from the north, column
+ *                        C from -180 degrees; T tiles of S texels per face edge),
+ *                        each a GeoTIFF, and a GDAL VRT mosaic of each set
  *
  * THE MESH. Each face is a grid of M x M quads (--mesh-res M, a multiple of the
  * tiles per face edge T that divides the face's N = T*S texels, so quads cover whole
@@ -54,6 +66,11 @@ extern "C" {
 #define PG_EXPORT_GLB_NAME "planet.glb"
 #define PG_EXPORT_ALBEDO_PREVIEW "albedo.png"
 #define PG_EXPORT_RELIEF_PREVIEW "relief.png"
+#define PG_EXPORT_GEOTIFF_HEIGHT "height"
+#define PG_EXPORT_GEOTIFF_ALBEDO "albedo"
+/* The NoData value of the height GeoTIFFs (no height is ever this; the tag is written
+ * so that no tool takes 0 for NoData). */
+#define PG_EXPORT_GEOTIFF_NODATA (-3.4028234663852886e38)
 
 typedef enum pg_export_texture_format {
     PG_EXPORT_TEXTURE_PNG,
@@ -67,6 +84,8 @@ typedef struct pg_export_opts {
     int jpeg_quality;                        /* 1..100 */
     bool external_textures;                  /* textures as separate files */
     bool glb, exr, previews;                 /* which outputs to write */
+    bool geotiff;                            /* the GIS rasters (off by default) */
+    bool geotiff_tiled;                      /* ... as tiles plus VRT mosaics */
     int preview_width;                       /* equirect width; 0: 4 face widths, at most 2048 */
     int globe_size;                          /* orthographic render size in pixels */
 } pg_export_opts;

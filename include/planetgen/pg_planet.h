@@ -135,8 +135,10 @@ pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err)
  * (borrowed), face size, projection, ellipsoid and sea level. */
 pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p);
 
-/* Load a planet directory written by pg_planet_save. Missing files are named in
- * the error; a directory without planet.json is "not a planet output". */
+/* Load a planet directory written by pg_planet_save, or a tiled one written by
+ * pg_planet_save_tiles and pg_planet_save_index (pg_planet_tiles.h: index.json and no
+ * planet.json). Missing files are named in the error; a directory with neither JSON
+ * file is "not a planet output". */
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err);
 
 #ifdef __cplusplus

@@ -199,6 +199,7 @@ static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *
     pg_export_opts_default(&o);
     o.exr = false;
     o.glb = !a->no_glb;
+    o.geotiff = a->geotiff;
     o.preview_width = (int)a->preview_width;
     pg_status st = pg_export_check_opts(&o, p->tiles, p->tile_size, err);
     if (!st) st = pg_export_check_planet(&o, p, err);
@@ -498,6 +499,9 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "width of the equirectangular previews (default 4 N, at most 2048)"},
         {"--no-glb", NULL, PG_OPT_FLAG, &a.no_glb, 0, 0, NULL, NULL,
          "do not write the glTF globe planet.glb"},
+        {"--geotiff", NULL, PG_OPT_FLAG, &a.geotiff, 0, 0, NULL, NULL,
+         "also write the planet as georeferenced GeoTIFFs: height.tif, albedo.tif (tiled: "
+         "per tile, with height.vrt and albedo.vrt; docs/export.md)"},
         {"--output-layout", NULL, PG_OPT_CHOICE, &a.output_layout, 0, 0, "planet|tiled", "L",
          "planet: face images, height.exr, previews, planet.glb; tiled: a PNG and an EXR per "
          "tile plus index.json (default planet; tiled under mpirun, docs/mpi.md)"},

@@ -26,6 +26,7 @@ typedef struct gen_args {
     long plates;                                          /* layout world */
     double land_fraction, axial_tilt, temperature_offset; /* layout world */
     bool no_cache, independent, no_glb;
+    bool geotiff; /* also the GIS rasters (pg_export.h) */
 } gen_args;
 
 /* A distributed run (mpirun -np P, P > 1, docs/mpi.md): NULL mpi in one process. */
@@ -82,7 +83,7 @@ int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hush
                            pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
                            size_t name_size);
 void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top);
-int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet,
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
                     const gen_world *world);
 int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g);
 
