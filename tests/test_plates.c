@@ -202,7 +202,7 @@ static void test_hypsometry(void **state) {
         land[i] = 1.0f + 5000.0f * i / (NQ - 1);
         ocean[i] = -8000.0f + 7999.0f * i / (NQ - 1);
     }
-    pg_plates_hypsometry h = {NQ, land, ocean};
+    pg_plates_hypsometry h = {NQ, land, ocean, NULL};
     pg_error err = {0};
     assert_int_equal(pg_plates_match_hypsometry(&w, &h, &err), PG_OK);
     int64_t coast = 0, order = 0, pairs = 0;
@@ -224,12 +224,26 @@ static void test_hypsometry(void **state) {
         assert_true(fabs(lq - k / 4.0) < 0.01);
         assert_true(fabs(oq - k / 4.0) < 0.01);
     }
+    /* a rank offset lifts its texels above all others: the 5% lowest land (an ice sheet
+     * on lowland) with 10 km added ends up at the top of the land */
+    float *off = calloc((size_t)c, sizeof *off);
+    assert_non_null(off);
+    int64_t lifted = 0;
+    for (int64_t t = 0; t < c; t++)
+        if (w.elevation_m[t] > 0 && w.elevation_m[t] < 1.0 + 5000.0 * 0.05)
+            off[t] = 10000, lifted++;
+    assert_true(lifted > 100);
+    pg_plates_hypsometry ho = {NQ, land, ocean, off};
+    assert_int_equal(pg_plates_match_hypsometry(&w, &ho, &err), PG_OK);
+    for (int64_t t = 0; t < c; t++)
+        if (off[t] > 0) assert_true(w.elevation_m[t] > 1.0 + 5000.0 * 0.94);
+    free(off);
     float bad[NQ];
     memcpy(bad, land, sizeof bad);
     bad[50] = 0; /* not ascending */
-    pg_plates_hypsometry hb = {NQ, bad, ocean};
+    pg_plates_hypsometry hb = {NQ, bad, ocean, NULL};
     assert_int_equal(pg_plates_match_hypsometry(&w, &hb, &err), PG_ERR_BADINPUT);
-    pg_plates_hypsometry hs = {1, land, ocean};
+    pg_plates_hypsometry hs = {1, land, ocean, NULL};
     assert_int_equal(pg_plates_match_hypsometry(&w, &hs, &err), PG_ERR_BADINPUT);
     free(before);
     pg_plates_world_free(&w);

@@ -15,7 +15,13 @@
  * is total and the result deterministic); texel i of cumulative area A_i (its own half
  * included) out of the land's A gets the target's land quantile at A_i / A, linearly
  * interpolated in the table. The ocean likewise. Land stays above 0 and ocean at or below
- * it, so the land fraction and every coast are unchanged. */
+ * it, so the land fraction and every coast are unchanged.
+ *
+ * ICE SHEETS. Earth's hypsometry has its high tail partly in ice: the Antarctic and
+ * Greenland sheets stand 2-3 km high on rock the plates would call lowland. The caller
+ * may add an offset to the ranking key (the sheet's thickness), so that those texels take
+ * high quantiles as Earth's ice does, and the high tail is not spread over the plates'
+ * lowland uplands instead. */
 #include "pg_plates_internal.h"
 
 #include <math.h>
@@ -29,7 +35,8 @@ static double quantile(const float *q, int n, double f) {
     return q[i] + (x - i) * (q[i + 1] - q[i]);
 }
 
-static pg_status remap(pg_plates_world *w, int land, const float *q, int nq, pg_error *err) {
+static pg_status remap(pg_plates_world *w, int land, const float *q, int nq, const float *off,
+                       pg_error *err) {
     const int64_t count = 6 * w->n * w->n;
     pg_plates_keyed *k = malloc(sizeof *k * (size_t)count);
     if (!k) return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for the hypsometry");
@@ -37,7 +44,7 @@ static pg_status remap(pg_plates_world *w, int land, const float *q, int nq, pg_
     double total = 0;
     for (int64_t t = 0; t < count; t++)
         if ((w->elevation_m[t] > 0) == land) {
-            k[m++] = (pg_plates_keyed){w->elevation_m[t], t};
+            k[m++] = (pg_plates_keyed){w->elevation_m[t] + (off ? off[t] : 0.0f), t};
             total += w->area_km2[t];
         }
     qsort(k, (size_t)m, sizeof *k, pg_plates_keyed_cmp);
@@ -67,6 +74,6 @@ pg_status pg_plates_match_hypsometry(pg_plates_world *w, const pg_plates_hypsome
         !ascending(h->ocean_m, h->n))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "plates hypsometry: need two ascending tables of >= 2 quantiles");
-    pg_status st = remap(w, 1, h->land_m, h->n, err);
-    return st ? st : remap(w, 0, h->ocean_m, h->n, err);
+    pg_status st = remap(w, 1, h->land_m, h->n, h->rank_offset_m, err);
+    return st ? st : remap(w, 0, h->ocean_m, h->n, h->rank_offset_m, err);
 }
