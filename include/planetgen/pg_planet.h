@@ -123,7 +123,8 @@ pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err)
  * (borrowed), face size, projection, ellipsoid and sea level. */
 pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p);
 
-/* Load a planet directory written by pg_planet_save. Missing files are named in
+/* Load a planet directory written by pg_planet_save, or a tiled one (index.json,
+ * pg_planet_load_tiles in pg_planet_tiles.h). Missing files are named in
  * the error; a directory without planet.json is "not a planet output". */
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err);
 

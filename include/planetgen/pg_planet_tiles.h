@@ -32,6 +32,18 @@ pg_status pg_planet_save_tiles(const pg_planet *p, int first, int last, pg_plane
 pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                                pg_error *err);
 
+/* Check a tiled planet directory without loading it: index.json parses and every tile
+ * file exists with the size it claims (headers only). The grid goes to *tiles and
+ * *tile_size. BADINPUT names the first file missing or wrong. */
+pg_status pg_planet_tiles_check(const char *dir, int *tiles, int *tile_size, pg_error *err);
+
+/* Load a tiled planet directory (index.json and every tile's files) into memory, for
+ * the tools that need the whole planet at once (view, export). Every tile file must
+ * exist with the size index.json claims, checked from the headers before anything is
+ * allocated; the error names the first file missing or wrong. pg_planet_load calls it
+ * for a directory that has index.json and no planet.json. */
+pg_status pg_planet_load_tiles(const char *dir, pg_planet *p, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -14,6 +14,7 @@
 
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_json.h"
+#include "planetgen/pg_planet_tiles.h"
 #include "planetgen/pg_synth.h"
 #include "pg_planet_meta.h"
 
@@ -368,9 +369,12 @@ pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a directory", dir);
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_META_NAME);
-    if (stat(path, &st) != 0)
+    if (stat(path, &st) != 0) {
+        snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_INDEX_NAME);
+        if (stat(path, &st) == 0) return pg_planet_load_tiles(dir, p, err);
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a planet output (no %s)", dir,
                             PG_PLANET_META_NAME);
+    }
     pg_planet_meta meta;
     pg_status s = pg_planet_meta_read(path, &meta, err);
     if (s != PG_OK) return s;

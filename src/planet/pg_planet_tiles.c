@@ -7,6 +7,7 @@
 
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
+#include "pg_planet_meta.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -75,4 +76,98 @@ pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, v
         pg_json_set_string(o, "height", hn);
     }
     return pg_planet_write_json(j, PG_PLANET_INDEX_NAME, path_for, user, err);
+}
+
+/* Every tile file present with S x S pixels, from the headers alone. */
+static pg_status check_tiles(const char *dir, const pg_planet *p, pg_error *err) {
+    char path[4096];
+    for (int t = 0; t < 6 * p->tiles * p->tiles; t++) {
+        char an[64], hn[64];
+        pg_planet_tile_names(p, t, an, hn);
+        for (int k = 0; k < 2; k++) {
+            snprintf(path, sizeof path, "%s/%s", dir, k ? hn : an);
+            int w, h, c;
+            pg_status st = pg_image_probe(path, &w, &h, &c, err);
+            if (st) return st;
+            if (w != p->tile_size || h != p->tile_size)
+                return pg_error_set(err, PG_ERR_BADINPUT, "%s: %dx%d, but %s says %dx%d", path, w,
+                                    h, PG_PLANET_INDEX_NAME, p->tile_size, p->tile_size);
+        }
+    }
+    return PG_OK;
+}
+
+/* The inverse of cut_tile: img (row 0 = +v edge) into tile t of `face`. */
+static void put_tile(const pg_planet *p, float *face, int ch, int t, const pg_image *img) {
+    const int T = p->tiles, S = p->tile_size, tx = t % T, ty = t / T % T;
+    for (int y = 0; y < S; y++) {
+        float *dst = face + ((size_t)(ty * S + y) * (size_t)p->n + (size_t)tx * S) * ch;
+        const float *src = img->data + (size_t)(S - 1 - y) * S * img->channels;
+        for (int x = 0; x < S; x++)
+            for (int c = 0; c < ch; c++)
+                dst[(size_t)x * ch + c] = src[(size_t)x * img->channels + c] * img->unit_scale;
+    }
+}
+
+static pg_status load_tile(const char *dir, pg_planet *p, int t, pg_error *err) {
+    const int f = t / (p->tiles * p->tiles);
+    char an[64], hn[64], path[4096];
+    pg_planet_tile_names(p, t, an, hn);
+    pg_image img;
+    snprintf(path, sizeof path, "%s/%s", dir, an);
+    pg_status st = pg_image_read(path, 0, &img, err);
+    if (st) return st;
+    if (img.channels < 3) st = pg_error_set(err, PG_ERR_BADINPUT, "%s: not RGB", path);
+    if (!st) put_tile(p, p->albedo[f], 3, t, &img);
+    pg_image_free(&img);
+    if (st) return st;
+    snprintf(path, sizeof path, "%s/%s", dir, hn);
+    if ((st = pg_image_read_exr(path, NULL, &img, err))) return st;
+    if (img.width != p->tile_size || img.height != p->tile_size || img.channels != 1)
+        st = pg_error_set(err, PG_ERR_BADINPUT, "%s: expected %dx%d, one channel", path,
+                          p->tile_size, p->tile_size);
+    if (!st) put_tile(p, p->height[f], 1, t, &img);
+    pg_image_free(&img);
+    return st;
+}
+
+/* index.json's parameters and the checked geometry of its tiles. */
+static pg_status read_index(const char *dir, pg_planet_meta *meta, pg_planet *shape,
+                            pg_error *err) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_INDEX_NAME);
+    pg_status st = pg_planet_meta_read(path, meta, err);
+    if (st) return st;
+    /* the geometry alone, to name and check the files before any allocation */
+    *shape = (pg_planet){.tiles = meta->tiles, .tile_size = meta->tile_size};
+    shape->n = (int64_t)meta->tiles * meta->tile_size;
+    return check_tiles(dir, shape, err);
+}
+
+pg_status pg_planet_tiles_check(const char *dir, int *tiles, int *tile_size, pg_error *err) {
+    pg_planet_meta meta;
+    pg_planet shape;
+    pg_status st = read_index(dir, &meta, &shape, err);
+    *tiles = st ? 0 : meta.tiles;
+    *tile_size = st ? 0 : meta.tile_size;
+    return st;
+}
+
+pg_status pg_planet_load_tiles(const char *dir, pg_planet *p, pg_error *err) {
+    memset(p, 0, sizeof *p);
+    pg_planet_meta meta;
+    pg_planet shape;
+    pg_cube_projection proj;
+    pg_status st = read_index(dir, &meta, &shape, err);
+    if (!st) st = pg_cube_projection_parse(meta.projection, PG_PLANET_INDEX_NAME, &proj, err);
+    if (!st) st = pg_planet_alloc(p, proj, meta.tiles, meta.tile_size, meta.ellipsoid, err);
+    if (st) return st;
+    p->seed = meta.seed;
+    p->sea_level = (float)meta.sea_level;
+    snprintf(p->exemplar, sizeof p->exemplar, "%s", meta.exemplar);
+    p->closed_land_share_before_final = meta.closed_land_share_before_final;
+    for (int t = 0; !st && t < 6 * p->tiles * p->tiles; t++)
+        st = load_tile(dir, p, t, err);
+    if (st) pg_planet_free(p);
+    return st;
 }
