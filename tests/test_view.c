@@ -7,8 +7,8 @@
  * lies inside the globe's disc: a crack along a face seam would show the magenta
  * background through the globe (back faces are culled). A tiled planet (index.json)
  * gets its viewer/planet.glb assembled from the tiles and is shown the same way; the
- * tiles load back bit for bit. Bad input (no planet, a port in use or out of range)
- * exits 2 with one line and writes nothing. */
+ * tiles load back bit for bit. The server gives nothing outside DIR. Bad input (no
+ * planet, a port in use or out of range) exits 2 with one line and writes nothing. */
 #include "export_fixture.h"
 
 #include "planetgen/pg_planet_tiles.h"
@@ -79,6 +79,45 @@ static void stop(server *s) {
     assert_int_equal(waitpid(s->pid, &st, 0), s->pid);
     s->pid = 0;
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0); /* a clean stop */
+}
+
+/* The response head of one raw HTTP request to the server (the path is sent as is). */
+static void http_head(int port, const char *method, const char *path, char *out, size_t size) {
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port)};
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    assert_int_equal(connect(fd, (struct sockaddr *)&a, sizeof a), 0);
+    char req[1024];
+    int n = snprintf(req, sizeof req, "%s %s HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n", method, path);
+    assert_int_equal(write(fd, req, (size_t)n), n);
+    size_t got = 0;
+    ssize_t r;
+    while (got + 1 < size && (r = read(fd, out + got, size - 1 - got)) > 0)
+        got += (size_t)r;
+    out[got] = '\0';
+    close(fd);
+    char *end = strstr(out, "\r\n\r\n");
+    if (end) *end = '\0';
+}
+
+/* The server gives the viewer's module as JavaScript (browsers refuse modules served
+ * otherwise) and nothing outside DIR, whatever the path says. */
+static void check_server_paths(int port) {
+    char head[8192];
+    http_head(port, "GET", "/viewer/viewer.js", head, sizeof head);
+    assert_non_null(strstr(head, " 200 "));
+    assert_non_null(strstr(head, "text/javascript"));
+    http_head(port, "HEAD", "/planet.glb", head, sizeof head);
+    assert_non_null(strstr(head, " 200 "));
+    const char *outside[] = {"/../planet.json", "/viewer/../../etc/passwd",
+                             "/viewer/%2e%2e/%2e%2e/etc/passwd", "/./planet.glb"};
+    for (int i = 0; i < 4; i++) {
+        http_head(port, "GET", outside[i], head, sizeof head);
+        printf("GET %s: %.40s\n", outside[i], head);
+        assert_non_null(strstr(head, " 403 "));
+    }
+    http_head(port, "POST", "/planet.glb", head, sizeof head);
+    assert_non_null(strstr(head, " 405 "));
 }
 
 /* Chromium, headless, with WebGL through SwiftShader (the machine has no GPU). The
@@ -188,6 +227,7 @@ static void test_browser_views(void **state) {
     snprintf(args, sizeof args, "export '%s' --no-previews -q", dir);
     assert_int_equal(pg_test_run_cli(args, NULL, 0, NULL, 0), 0);
     serve(dir, srv);
+    check_server_paths(srv->port);
     check_view(dir, srv->port, "north", "north.png");
     check_view(dir, srv->port, "south", "south.png");
     check_view(dir, srv->port, "corner", "corner.png");

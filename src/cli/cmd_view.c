@@ -110,7 +110,8 @@ static int check_tiled(pg_cli *cli, const char *dir, double max_memory_gb) {
     return pg_cli_check_memory(cli, dir, 300e6 + 6 * n * n * 48 + verts * 160, max_memory_gb);
 }
 
-/* Serve until SIGINT or SIGTERM. The CLI's watcher is stopped first: its message says
+/* Serve until SIGINT or SIGTERM, then exit 0. The address is printed even with --quiet:
+ * it is what the user waits for. The CLI's watcher is stopped first: its message says
  * the command wrote nothing, which is not true once the viewer is in place. */
 static int serve_until_signal(pg_cli *cli, pg_serve *srv, const char *dir, int port) {
     printf("serving  %s at http://127.0.0.1:%d/viewer/index.html (Ctrl-C stops)\n", dir, port);
@@ -132,13 +133,12 @@ static int run_view(pg_cli *cli, const char *dir, long port, double max_memory_g
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
         return pg_cli_usage_error(cli, "%s: not a directory", dir);
     bool glb = exists(dir, PG_EXPORT_GLB_NAME), tiled = !glb && exists(dir, PG_PLANET_INDEX_NAME);
+    if (!glb && !tiled && exists(dir, PG_PLANET_META_NAME))
+        return pg_cli_usage_error(cli, "%s: no %s (run planetgen export %s)", dir,
+                                  PG_EXPORT_GLB_NAME, dir);
     if (!glb && !tiled)
-        return pg_cli_usage_error(cli,
-                                  exists(dir, PG_PLANET_META_NAME)
-                                      ? "%s: no " PG_EXPORT_GLB_NAME " (run planetgen export %s)"
-                                      : "%s: not a planet output (no " PG_EXPORT_GLB_NAME
-                                        " or " PG_PLANET_INDEX_NAME ")%s",
-                                  dir, exists(dir, PG_PLANET_META_NAME) ? dir : "");
+        return pg_cli_usage_error(cli, "%s: not a planet output (no %s or %s)", dir,
+                                  PG_EXPORT_GLB_NAME, PG_PLANET_INDEX_NAME);
     if (!pg_export_viewer_available()) {
         pg_export_viewer_write(NULL, NULL, NULL, &err); /* only to fill err with the reason */
         return pg_cli_fail(cli, &err);
@@ -173,18 +173,18 @@ static int run_view(pg_cli *cli, const char *dir, long port, double max_memory_g
     }
     rc = pg_cli_finish(cli);
     remove_subdirs(&c, rc != 0);
-    pg_cli_info(cli, "viewer   %s/%s\n", c.viewer, PG_EXPORT_VIEWER_PAGE);
-    if (rc || !srv) {
-        if (!rc)
-            pg_cli_info(cli,
-                        "open it through a local server: planetgen view %s --serve 8000, or\n"
-                        "         python3 -m http.server --bind 127.0.0.1 --directory %s 8000,\n"
-                        "         then http://127.0.0.1:8000/viewer/index.html\n",
-                        dir, dir);
+    if (rc) {
         pg_serve_stop(srv);
         return rc;
     }
-    return serve_until_signal(cli, srv, dir, bound);
+    pg_cli_info(cli, "viewer   %s/%s\n", c.viewer, PG_EXPORT_VIEWER_PAGE);
+    if (srv) return serve_until_signal(cli, srv, dir, bound);
+    pg_cli_info(cli,
+                "open it through a local server: planetgen view %s --serve 8000, or\n"
+                "         python3 -m http.server --bind 127.0.0.1 --directory %s 8000,\n"
+                "         then http://127.0.0.1:8000/viewer/index.html\n",
+                dir, dir);
+    return 0;
 }
 
 int pg_cmd_view(pg_cli *cli, int argc, char **argv) {
