@@ -69,7 +69,8 @@ static const char *viewer_path(const char *name, void *user) {
     if (!slash) return pg_cli_output_path(c->cli, c->viewer, name);
     if (!make_subdirs(c, name, (size_t)(slash - name))) return NULL;
     char dir[4096];
-    snprintf(dir, sizeof dir, "%s/%.*s", c->viewer, (int)(slash - name), name);
+    int n = snprintf(dir, sizeof dir, "%s/%.*s", c->viewer, (int)(slash - name), name);
+    if (n < 0 || (size_t)n >= sizeof dir) return NULL;
     return pg_cli_output_path(c->cli, dir, slash + 1);
 }
 
