@@ -332,12 +332,25 @@ def build(args):
                        "sea_level_m": sea_level, "faces_displaced": wired}
 
 
+def frame_viewports(a):
+    """In the interface, 3D views that see the whole globe (kilometres, not metres)."""
+    screen = getattr(bpy.context, "screen", None)
+    for area in (screen.areas if screen else []):
+        if area.type != "VIEW_3D":
+            continue
+        space = area.spaces.active
+        space.clip_start, space.clip_end = 0.1, 20 * a
+        space.region_3d.view_location = (0, 0, 0)
+        space.region_3d.view_distance = 3 * a
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     args = parse_args(argv)
     for o in list(bpy.data.objects):  # the default cube, camera and light
         bpy.data.objects.remove(o)
-    build(args)
+    land, fig = build(args)
+    frame_viewports(fig["radius_km"])
     if args.save:
         bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save))
     if args.render:
