@@ -125,6 +125,24 @@ typedef struct pg_export_result {
 pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet_path_fn path_for,
                           void *user, pg_export_result *res, pg_error *err);
 
+/* ---- the browser viewer (docs/export.md, "The browser viewer") ----
+ * A page that shows a planet's .glb as a globe with three.js: index.html, viewer.js,
+ * three.js under three/ (with its LICENSE), and viewer.json {"glb": URL} naming the
+ * .glb, relative to the viewer directory. Everything is compiled into the library;
+ * the page loads nothing from the network, but browsers load its ES modules only over
+ * HTTP, not from file://. */
+#define PG_EXPORT_VIEWER_DIR "viewer"
+#define PG_EXPORT_VIEWER_PAGE "index.html"
+
+/* Was three.js compiled in (npm at build time)? Without it the page cannot run. */
+bool pg_export_viewer_available(void);
+
+/* Write the viewer's files through path_for. Names contain "/" for subdirectories
+ * (three/build/three.module.js): path_for must create the directories. PG_ERR_IO when
+ * this build lacks three.js (pg_export_viewer_available). */
+pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
+                                 pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -45,6 +45,11 @@ pg_status pg_planet_load_tiles(const char *dir, pg_planet *p, pg_error *err);
  * process that holds only its own tiles, once all are written). */
 pg_status pg_planet_load_tile_files(const char *dir, pg_planet *p, pg_error *err);
 
+/* Check a tiled planet directory without loading it: index.json parses and every tile
+ * file exists with the size it claims (headers only). The grid goes to *tiles and
+ * *tile_size. BADINPUT names the first file missing or wrong. */
+pg_status pg_planet_tiles_check(const char *dir, int *tiles, int *tile_size, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

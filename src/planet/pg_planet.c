@@ -15,6 +15,7 @@
 
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_json.h"
+#include "planetgen/pg_planet_tiles.h"
 #include "planetgen/pg_synth.h"
 #include "pg_planet_meta.h"
 

@@ -8,7 +8,6 @@
 
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
-
 #include "pg_planet_meta.h"
 
 #include <stdio.h>
@@ -146,6 +145,17 @@ static pg_status load_tile(const char *dir, pg_planet *p, int t, pg_error *err) 
     else
         paste_tile(p, p->height[f], 1, t, &img, 1.0f);
     pg_image_free(&img);
+    return s;
+}
+
+pg_status pg_planet_tiles_check(const char *dir, int *tiles, int *tile_size, pg_error *err) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_INDEX_NAME);
+    pg_planet_meta meta;
+    pg_status s = pg_planet_meta_read(path, &meta, err);
+    if (s == PG_OK) s = check_tiles(dir, &meta, err);
+    *tiles = s ? 0 : meta.tiles;
+    *tile_size = s ? 0 : meta.tile_size;
     return s;
 }
 
