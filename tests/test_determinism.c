@@ -243,6 +243,13 @@ static void test_generate(void **state) {
     expect_same(&a, &b, "generate, second run");
     run_and_hash(args, o, json, 1, false, &b);
     expect_same(&a, &b, "generate, OMP_NUM_THREADS=1 vs 2");
+    /* the exemplar prepared in memory, not mapped from the cache file */
+    snprintf(args, sizeof args,
+             "generate --tiles %d --tile-size %d --seed 7 --no-cache --cache-dir %s -o %s", 2, 64,
+             cache, o);
+    run_and_hash(args, o, json, 2, false, &b);
+    expect_same(&a, &b, "generate, --no-cache vs the mapped cache");
+    snprintf(args, sizeof args, fmt, 2, 64, cache, o);
     /* tilings: mask the tiling fields in both */
     run_and_hash(args, o, json, 2, true, &a);
     snprintf(args, sizeof args, fmt, 4, 32, cache, o);

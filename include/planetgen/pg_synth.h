@@ -103,6 +103,11 @@ typedef struct pg_synth_exemplar {
     uint64_t key;        /* cache key */
     double cold_seconds; /* wall time the (uncached) preparation took, kept in the cache */
     pg_cube_grid grid;   /* 1 tile of E per face: wraps coordinates across exemplar seams */
+    /* Loaded from the cache: albedo, height, app and kcoh point into this read-only
+     * mapping of the cache file (pg_synth_exemplar_free unmaps it); NULL when they were
+     * allocated. */
+    void *map;
+    size_t map_bytes;
 } pg_synth_exemplar;
 
 typedef struct pg_synth_prep_info {
@@ -127,6 +132,18 @@ pg_status pg_synth_prepare_torus(const float *albedo, const float *height, int s
                                  float sea_level, const pg_synth_exemplar_params *p,
                                  const char *cache_dir, pg_synth_exemplar **out,
                                  pg_synth_prep_info *info, pg_error *err);
+
+/* The cached exemplar prepared from the sources whose fingerprint is source_fp
+ * (pg_exemplar_fingerprint) under parameters p, found through the cache's index without
+ * the sources' pixels; *out is NULL on a miss (then load the sources, prepare with
+ * pg_synth_prepare_exemplar and record the pair with pg_synth_remember_sources). */
+pg_status pg_synth_lookup_exemplar(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                                   const char *cache_dir, pg_synth_exemplar **out,
+                                   pg_synth_prep_info *info, pg_error *err);
+/* Record in the cache's index that source_fp under p prepares ex (whose cache file
+ * pg_synth_prepare_exemplar wrote). Best effort: a failure only costs a later miss. */
+void pg_synth_remember_sources(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                               const char *cache_dir, const pg_synth_exemplar *ex);
 
 void pg_synth_exemplar_free(pg_synth_exemplar *ex);
 
