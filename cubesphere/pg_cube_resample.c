@@ -197,6 +197,11 @@ static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, cons
     }
 }
 
+void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
+                         float *out) {
+    cube_sample_g(g, cube, ch, dir, out);
+}
+
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out) {
     pg_cube_grid g;
