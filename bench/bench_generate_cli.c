@@ -201,12 +201,11 @@ static void report(const char *layout, const figures *b, const figures *a, bool 
     row("  / synthesis", bo / b->synth, ao / a->synth, "<= 0.3", have);
     row("CPU seconds, whole run", b->cpu, a->cpu, "", have);
     row("peak RSS, MB", b->peak_mb, a->peak_mb, "", have);
+    row("page faults, whole run, minor", b->minflt, a->minflt, "", have);
+    row("page faults, whole run, major", b->majflt, a->majflt, "", have);
     printf("  page faults (minor / major) per stage, after:");
     for (int i = 0; i < NSTAGE; i++)
         printf(" %s %.0f/%.0f;", stage_names[i], a->stage_minflt[i], a->stage_majflt[i]);
-    printf("\n  page faults (minor / major) per stage, before:");
-    for (int i = 0; i < NSTAGE && have; i++)
-        printf(" %s %.0f/%.0f;", stage_names[i], b->stage_minflt[i], b->stage_majflt[i]);
     printf("\n");
 }
 
