@@ -10,8 +10,8 @@
  *
  * usage: bench_generate_cli [--before PLANETGEN] [--cache-dir DIR] [--layouts L,L,...]
  *                           [--no-cold]
- * The before binary is also taken from the environment variable PG_BENCH_BEFORE (for
- * instance a build of an earlier commit outside the repository); without one, only this
+ * The before binary is also taken from the environment variable
+ * PG_BENCH_BEFORE_PLANETGEN (bench/run sets it from PG_BENCH_BEFORE_REV); without one, only this
  * build's figures are printed. The cache directory (default: a fresh temporary one) gets
  * a subdirectory per binary, since cache formats differ between versions. */
 #define _GNU_SOURCE /* wait4 */
@@ -210,7 +210,7 @@ static void report(const char *layout, const figures *b, const figures *a, bool 
 }
 
 int main(int argc, char **argv) {
-    const char *before = getenv("PG_BENCH_BEFORE"), *layouts = "world,free,earth";
+    const char *before = getenv("PG_BENCH_BEFORE_PLANETGEN"), *layouts = "world,free,earth";
     char root[PATH_MAX] = "";
     bool cold = true;
     for (int i = 1; i < argc; i++) {
@@ -250,7 +250,7 @@ int main(int argc, char **argv) {
         snprintf(out[k], sizeof out[k], "%s/planet-%s", root, tags[k]);
     }
     printf("bench_generate_cli: after %s\n                    before %s\n", after,
-           have ? before : "(none: set PG_BENCH_BEFORE or --before)");
+           have ? before : "(none: set PG_BENCH_BEFORE_PLANETGEN or --before)");
     printf("threads %s (OMP_NUM_THREADS), load average %.1f at the start, work dir %s\n",
            getenv("OMP_NUM_THREADS") ? getenv("OMP_NUM_THREADS") : "default", loadavg(), root);
     char list[256];

@@ -7,10 +7,32 @@
  * Mcells/s with 1 thread and with 2, checks that both give identical heights, and
  * counts the depressions before and after. Figures only; nothing is asserted.
  *
- * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] [--no-stats]
- *                   [--only PREFIX]   (e.g. --only "fill (plain)")
+ * Hard DEM (--hard FILE): Marble's relief as its raw grey levels (0..247) in a float
+ * EXR, map edges as outlets and no sea level, so the oceans are basins to fill and
+ * every grey level is a flat: the case integer DEMs give. FILE is written first when
+ * it does not exist. For each method it prints the algorithm's seconds with 1 and 2
+ * threads and their ratio, and the cost of counting the depressions before and after
+ * (what `planetgen pits` does without --no-stats) as a fraction of the removal.
+ *
+ * Side by side, in the same run (bench/run sets these up; see its header):
+ *   PG_BENCH_BEFORE=BIN    a bench_pits built from an earlier revision with this same
+ *                          file: it runs first with the same options, and every row
+ *                          prints its time beside today's with the ratio;
+ *   PG_BENCH_RICHDEM=BIN   bench/richdem_pits.cpp built against RichDEM: run on the
+ *                          hard DEM's file, it times Barnes et al. 2014's improved
+ *                          Priority-Flood and Lindsay 2016's complete breaching, and
+ *                          the fill and breach rows print planetgen / RichDEM ratios.
+ *                          Without it the rows print the reference figures of
+ *                          docs/pits.md ("Hard DEM").
+ *
+ * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only|--hard FILE]
+ *                   [--no-stats] [--only PREFIX] [--rows]
+ *        (--only "fill (plain)": only the methods whose name starts so; --rows: print
+ *        only "ROW <section> | <method> | <threads> <seconds>" lines, for a later
+ *        revision to compare against)
  *        bench_pits --synth [--images DIR]   (Gain-pit's share of a 1024^2 flat
  *        synthesis; DIR gets shaded reliefs of both runs, depressions in red) */
+#include "pg_marble.h"
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_image.h"
@@ -77,7 +99,59 @@ static const run RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
                            {"breach (eps, descent tree)", PG_PITS_BREACH, true, true},
                            {"hybrid (eps, descent tree)", PG_PITS_HYBRID, true, true}};
 
-static void count(const char *what, const pg_pits_topo *t, const float *h, const pg_pits_opts *o) {
+/* Rows of figures: every timed figure has a key "<section> | <method> | <threads>".
+ * A run with --rows prints only these; a run with PG_BENCH_BEFORE reads an earlier
+ * revision's rows and prints each beside today's. */
+typedef struct rows {
+    char (*key)[128];
+    double *sec;
+    size_t n, cap;
+} rows;
+
+typedef struct bctx {
+    int rows_only, stats;
+    const char *only;
+    rows before, now;
+    rows before_hash; /* 53 bits of each result's FNV-1a hash, exact in a double */
+    double richdem_fill, richdem_breach; /* seconds, 0 when not run */
+} bctx;
+
+static void rows_add(rows *r, const char *key, double sec) {
+    if (r->n == r->cap) {
+        r->cap = r->cap ? 2 * r->cap : 64;
+        r->key = realloc(r->key, r->cap * sizeof *r->key);
+        r->sec = realloc(r->sec, r->cap * sizeof *r->sec);
+    }
+    size_t len = strlen(key) < sizeof r->key[0] - 1 ? strlen(key) : sizeof r->key[0] - 1;
+    memcpy(r->key[r->n], key, len);
+    r->key[r->n][len] = 0;
+    r->sec[r->n++] = sec;
+}
+
+static double rows_find(const rows *r, const char *key) {
+    for (size_t i = 0; i < r->n; i++)
+        if (!strcmp(r->key[i], key)) return r->sec[i];
+    return 0;
+}
+
+/* Records a figure; returns " (before X s, Y x)" for printing, or "" without one. */
+static const char *figure(bctx *b, const char *section, const char *method, int threads, double sec,
+                          char *buf, size_t size) {
+    char key[128];
+    snprintf(key, sizeof key, "%s | %s | %d", section, method, threads);
+    rows_add(&b->now, key, sec);
+    buf[0] = 0;
+    if (b->rows_only) {
+        printf("ROW %s %.4f\n", key, sec);
+        return buf;
+    }
+    double was = rows_find(&b->before, key);
+    if (was > 0) snprintf(buf, size, " (before %.2f s, %.2fx)", was, was / sec);
+    return buf;
+}
+
+static void count(bctx *b, const char *section, const char *what, const pg_pits_topo *t,
+                  const float *h, const pg_pits_opts *o, double *sec) {
     pg_pits_stats st;
     pg_error err = {0};
     double t0 = omp_get_wtime();
@@ -85,57 +159,88 @@ static void count(const char *what, const pg_pits_topo *t, const float *h, const
         printf("  stats failed: %s\n", err.msg);
         return;
     }
-    printf("  %-34s %llu depressions, %llu cells, volume %.4g m^3-per-cell-area (%.1f s)\n", what,
-           (unsigned long long)st.depressions, (unsigned long long)st.depression_cells,
-           st.depression_volume_m3, omp_get_wtime() - t0);
+    *sec = omp_get_wtime() - t0;
+    char buf[96], name[64];
+    snprintf(name, sizeof name, "count depressions %s", what);
+    const char *was = figure(b, section, name, omp_get_max_threads(), *sec, buf, sizeof buf);
+    if (!b->rows_only)
+        printf("  %-30s %llu depressions, %llu cells, volume %.6g (%.2f s%s)\n", name,
+               (unsigned long long)st.depressions, (unsigned long long)st.depression_cells,
+               st.depression_volume_m3, *sec, was);
 }
 
-static void bench(const char *label, const pg_pits_topo *t, const float *dem, double sea, int stats,
-                  const char *only) {
-    size_t n = t->ncells;
-    printf("%s: %llu cells (%.1f Mcells)\n", label, (unsigned long long)n, n / 1e6);
-    pg_pits_opts o;
-    pg_pits_opts_default(&o);
-    o.has_sea_level = true;
-    o.sea_level = sea;
-    o.open_edges = t->kind == PG_PITS_GRID;
-    if (stats) count("before", t, dem, &o);
-    float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
-    for (size_t r = 0; r < sizeof RUNS / sizeof *RUNS; r++) {
-        if (only && strncmp(RUNS[r].name, only, strlen(only))) continue;
-        o.method = RUNS[r].m;
-        o.epsilon = RUNS[r].eps;
-        o.descent = RUNS[r].descent;
-        o.max_depth = 50;
-        o.max_length = 100;
-        double sec[2], cpu[2];
-        float *out[2] = {a, b};
-        for (int th = 1; th <= 2; th++) {
-            memcpy(out[th - 1], dem, sizeof(float) * n);
-            omp_set_num_threads(th);
-            pg_error err = {0};
-            double t0 = omp_get_wtime(), c0 = cpu_seconds();
-            if (pg_pits_remove(t, out[th - 1], &o, NULL, &err)) {
-                printf("  %s failed: %s\n", RUNS[r].name, err.msg);
-                return;
-            }
-            sec[th - 1] = omp_get_wtime() - t0;
-            cpu[th - 1] = cpu_seconds() - c0;
+/* One method with 1 and 2 threads: seconds, identity of the results, and the cost of
+ * counting depressions before and after relative to the removal. */
+static void bench_method(bctx *b, const char *section, const run *r, const pg_pits_topo *t,
+                         const float *dem, pg_pits_opts o, float *out[2], double stats_before) {
+    const size_t n = t->ncells;
+    o.method = r->m;
+    o.epsilon = r->eps;
+    o.descent = r->descent;
+    double sec[2], cpu[2];
+    for (int th = 1; th <= 2; th++) {
+        memcpy(out[th - 1], dem, sizeof(float) * n);
+        omp_set_num_threads(th);
+        pg_error err = {0};
+        double t0 = omp_get_wtime(), c0 = cpu_seconds();
+        if (pg_pits_remove(t, out[th - 1], &o, NULL, &err)) {
+            printf("  %s failed: %s\n", r->name, err.msg);
+            return;
         }
+        sec[th - 1] = omp_get_wtime() - t0;
+        cpu[th - 1] = cpu_seconds() - c0;
+    }
+    char b1[96], b2[96], key[128];
+    uint64_t hash = 0xcbf29ce484222325u;
+    const unsigned char *bytes = (const unsigned char *)out[0];
+    for (size_t i = 0; i < n * sizeof(float); i++)
+        hash = (hash ^ bytes[i]) * 0x100000001b3u;
+    double hash53 = (double)(hash >> 11);
+    snprintf(key, sizeof key, "%s | %s", section, r->name);
+    if (b->rows_only) printf("HASH %s %.0f\n", key, hash53);
+    double was_hash = rows_find(&b->before_hash, key);
+    const char *same = !b->before_hash.n    ? ""
+                       : was_hash == hash53 ? "; same bytes as before: yes"
+                                            : "; same bytes as before: NO";
+    const char *w1 = figure(b, section, r->name, 1, sec[0], b1, sizeof b1);
+    const char *w2 = figure(b, section, r->name, 2, sec[1], b2, sizeof b2);
+    if (!b->rows_only) {
         size_t up = 0, down = 0;
         for (size_t i = 0; i < n; i++) {
-            up += a[i] > dem[i];
-            down += a[i] < dem[i];
+            up += out[0][i] > dem[i];
+            down += out[0][i] < dem[i];
         }
-        printf("  %-30s raised %zu lowered %zu cells\n", RUNS[r].name, up, down);
-        printf("  %-30s 1 thread %6.2f s %6.1f Mcells/s (cpu %.2f s) | 2 threads %6.2f s %6.1f "
-               "Mcells/s (cpu %.2f s) | identical: %s\n",
-               RUNS[r].name, sec[0], n / 1e6 / sec[0], cpu[0], sec[1], n / 1e6 / sec[1], cpu[1],
-               memcmp(a, b, sizeof(float) * n) ? "NO" : "yes");
-        if (stats) count("after", t, a, &o);
+        printf("  %-30s raised %zu lowered %zu cells; identical for 1 and 2 threads: %s%s\n",
+               r->name, up, down, memcmp(out[0], out[1], sizeof(float) * n) ? "NO" : "yes", same);
+        printf("  %-30s 1 thread %6.2f s%s %5.1f Mcells/s (cpu %.2f s)\n", "", sec[0], w1,
+               n / 1e6 / sec[0], cpu[0]);
+        printf("  %-30s 2 threads %5.2f s%s (cpu %.2f s); 2 vs 1 thread %.2fx\n", "", sec[1], w2,
+               cpu[1], sec[0] / sec[1]);
     }
-    free(a);
-    free(b);
+    if (b->stats) {
+        double after = 0;
+        omp_set_num_threads(2);
+        count(b, section, "after", t, out[0], &o, &after);
+        if (!b->rows_only)
+            printf("  %-30s counting before + after: %.2f s = %.2f x the removal (2 threads)\n", "",
+                   stats_before + after, (stats_before + after) / sec[1]);
+    }
+}
+
+static void bench(bctx *b, const char *label, const pg_pits_topo *t, const float *dem,
+                  const pg_pits_opts *base, const run *runs, size_t nruns) {
+    size_t n = t->ncells;
+    if (!b->rows_only)
+        printf("%s: %llu cells (%.1f Mcells)\n", label, (unsigned long long)n, n / 1e6);
+    double before = 0;
+    omp_set_num_threads(2);
+    if (b->stats) count(b, label, "before", t, dem, base, &before);
+    float *out[2] = {malloc(sizeof(float) * n), malloc(sizeof(float) * n)};
+    for (size_t r = 0; r < nruns; r++)
+        if (!b->only || !strncmp(runs[r].name, b->only, strlen(b->only)))
+            bench_method(b, label, &runs[r], t, dem, *base, out, before);
+    free(out[0]);
+    free(out[1]);
 }
 
 /* A hill-shaded grey image of h (cell size `cell` metres, lit from the north-west)
@@ -233,38 +338,172 @@ static void bench_synth(const float *dem, int w, int n, const char *images) {
     free(rgb);
 }
 
+/* The hard DEM: Marble's relief as raw grey levels, written to path when missing. */
+static float *hard_dem(const char *path, int *w, int *h) {
+    pg_image img;
+    pg_error err = {0};
+    FILE *f = fopen(path, "rb");
+    if (f) {
+        fclose(f);
+    } else {
+        if (pg_exemplar_assemble_relief(PG_MARBLE_RELIEF_DIR, PG_MARBLE_RELIEF_ROWS,
+                                        PG_MARBLE_RELIEF_COLS, &img, &err) ||
+            pg_image_write_exr(path, &img, NULL, &err)) {
+            printf("hard DEM: %s\n", err.msg);
+            return NULL;
+        }
+        pg_image_free(&img);
+        printf("hard DEM: wrote %s\n", path);
+    }
+    if (pg_image_read(path, 0, &img, &err) || img.channels != 1) {
+        printf("hard DEM: %s: %s\n", path, err.msg[0] ? err.msg : "not one channel");
+        return NULL;
+    }
+    *w = img.width, *h = img.height;
+    float *d = img.data;
+    img.data = NULL;
+    pg_image_free(&img);
+    return d;
+}
+
+/* Reference figures (docs/pits.md, "Hard DEM"): RichDEM c5a183a on this DEM, on the
+ * 2-core machine the project's figures come from, printed when RichDEM is not built. */
+#define REF_RICHDEM_FILL 4.94
+#define REF_RICHDEM_BREACH 21.3
+
+static void richdem_run(bctx *b, const char *bin, const char *file) {
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "'%s' '%s' fill breach 2>/dev/null", bin, file);
+    FILE *p = popen(cmd, "r");
+    char line[256], name[64];
+    double s;
+    while (p && fgets(line, sizeof line, p))
+        if (sscanf(line, "richdem %63s %lf", name, &s) == 2) {
+            if (!strcmp(name, "fill")) b->richdem_fill = s;
+            if (!strcmp(name, "breach")) b->richdem_breach = s;
+        }
+    if (p) pclose(p);
+    if (!b->richdem_fill || !b->richdem_breach)
+        printf("RichDEM: %s did not report both times\n", bin);
+}
+
+static void richdem_ratios(const bctx *b, const rows *now) {
+    int measured = b->richdem_fill > 0;
+    double rf = measured ? b->richdem_fill : REF_RICHDEM_FILL;
+    double rb = measured ? b->richdem_breach : REF_RICHDEM_BREACH;
+    const char *how = measured ? "measured in this run" : "reference figures, docs/pits.md";
+    double fill = rows_find(now, "hard DEM | fill (plain) | 1");
+    double breach = rows_find(now, "hard DEM | breach (eps, descent tree) | 1");
+    printf("RichDEM (%s): Barnes 2014 improved fill %.2f s, Lindsay 2016 complete breaching "
+           "%.2f s\n",
+           how, rf, rb);
+    if (fill > 0)
+        printf("  fill (plain), 1 thread: %.2f s = %.2fx RichDEM's fill (goal >= 1.5x)\n", fill,
+               rf / fill);
+    if (breach > 0)
+        printf("  breach (eps, descent tree), 1 thread: %.2f s = %.2fx RichDEM's breaching (goal "
+               ">= 4x)\n",
+               breach, rb / breach);
+}
+
+/* Runs an earlier revision's bench_pits with the same options and keeps its rows. */
+static void before_run(bctx *b, const char *bin, int argc, char **argv) {
+    char cmd[8192];
+    size_t k = (size_t)snprintf(cmd, sizeof cmd, "'%s' --rows", bin);
+    for (int i = 1; i < argc && k < sizeof cmd; i++)
+        k += (size_t)snprintf(cmd + k, sizeof cmd - k, " '%s'", argv[i]);
+    printf("before: %s\n", cmd);
+    fflush(stdout);
+    FILE *p = popen(cmd, "r");
+    char line[512];
+    while (p && fgets(line, sizeof line, p)) {
+        char *sp = strrchr(line, ' ');
+        if (!sp) continue;
+        *sp = 0;
+        if (!strncmp(line, "ROW ", 4)) rows_add(&b->before, line + 4, atof(sp + 1));
+        if (!strncmp(line, "HASH ", 5)) rows_add(&b->before_hash, line + 5, atof(sp + 1));
+    }
+    if (p) pclose(p);
+    printf("before: %zu rows\n", b->before.n);
+}
+
+static const run HARD_RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
+                                {"fill (eps)", PG_PITS_FILL, true, false},
+                                {"breach (eps, descent tree)", PG_PITS_BREACH, true, true},
+                                {"breach (eps)", PG_PITS_BREACH, true, false}};
+
 int main(int argc, char **argv) {
-    int synthetic = 0, flat = 1, planet = 1, stats = 1, synth = 0;
-    const char *only = NULL;   /* run only the methods whose name starts with this */
+    int synthetic = 0, flat = 1, planet = 1, hard = 1, synth = 0;
+    bctx b = {.stats = 1};
     const char *images = NULL; /* --synth: write shaded reliefs of both runs here */
+    const char *hard_path = getenv("PG_BENCH_HARD");
+    if (!hard_path) hard_path = "bench/out/hard_relief.exr";
     long N = 2048;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--synthetic"))
             synthetic = 1;
         else if (!strcmp(argv[i], "--flat-only"))
-            planet = 0;
+            planet = hard = 0;
         else if (!strcmp(argv[i], "--planet-only"))
-            flat = 0;
+            flat = hard = 0;
+        else if (!strcmp(argv[i], "--hard") && i + 1 < argc)
+            hard_path = argv[++i], flat = planet = 0;
         else if (!strcmp(argv[i], "--no-stats"))
-            stats = 0;
+            b.stats = 0;
+        else if (!strcmp(argv[i], "--rows"))
+            b.rows_only = 1;
         else if (!strcmp(argv[i], "--n") && i + 1 < argc)
             N = atol(argv[++i]);
         else if (!strcmp(argv[i], "--only") && i + 1 < argc)
-            only = argv[++i];
+            b.only = argv[++i];
         else if (!strcmp(argv[i], "--synth"))
-            synth = 1, flat = planet = 0;
+            synth = 1, flat = planet = hard = 0;
         else if (!strcmp(argv[i], "--images") && i + 1 < argc)
             images = argv[++i];
         else {
-            fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only] "
-                            "[--no-stats] [--only PREFIX]\n");
+            fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] "
+                            "[--flat-only|--planet-only|--hard FILE] [--no-stats] [--only PREFIX] "
+                            "[--rows]\n");
             return 2;
         }
     }
+    const char *before_bin = getenv("PG_BENCH_BEFORE"), *richdem = getenv("PG_BENCH_RICHDEM");
+    if (!b.rows_only) {
+        double load[3] = {0};
+        FILE *lf = fopen("/proc/loadavg", "r");
+        if (lf) {
+            if (fscanf(lf, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3) load[0] = -1;
+            fclose(lf);
+        }
+        printf("bench_pits: %d OpenMP threads available, load average %.2f %.2f %.2f\n",
+               omp_get_num_procs(), load[0], load[1], load[2]);
+        if (before_bin && *before_bin && !synth) before_run(&b, before_bin, argc, argv);
+    }
+    pg_pits_topo t;
+    pg_error err = {0};
+    if (hard) {
+        int w = 0, h = 0;
+        float *dem = hard_dem(hard_path, &w, &h);
+        if (dem) {
+            pg_pits_opts o;
+            pg_pits_opts_default(&o);
+            o.open_edges = true; /* the map edges are the outlets; no sea level */
+            pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+            if (!b.rows_only)
+                printf("hard DEM: %s, %dx%d raw grey levels, edges as outlets, no sea level\n",
+                       hard_path, w, h);
+            bench(&b, "hard DEM", &t, dem, &o, HARD_RUNS, sizeof HARD_RUNS / sizeof *HARD_RUNS);
+            free(dem);
+            if (!b.rows_only) {
+                if (richdem && *richdem) richdem_run(&b, richdem, hard_path);
+                richdem_ratios(&b, &b.now);
+            }
+        }
+    }
+    if (!flat && !planet && !synth) return 0;
     int w = 10800, h = 5400;
     float *dem = NULL;
     double sea = 0;
-    pg_error err = {0};
     if (!synthetic) {
         pg_exemplar_opts eo;
         pg_exemplar_opts_default(&eo);
@@ -276,21 +515,29 @@ int main(int argc, char **argv) {
             ex.elevation = NULL;
             sea = ex.sea_level;
             pg_exemplar_free(&ex);
-            printf("relief: Marble %dx%d, calibrated to metres, sea level %.1f m (load %.1f s)\n",
-                   w, h, sea, omp_get_wtime() - t0);
+            if (!b.rows_only)
+                printf("relief: Marble %dx%d, calibrated to metres, sea level %.1f m (load %.1f "
+                       "s)\n",
+                       w, h, sea, omp_get_wtime() - t0);
         } else {
             printf("relief not available (%s); using the synthetic fractal\n", err.msg);
         }
     }
     if (!dem) {
         dem = fractal(w, h);
-        printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
+        if (!b.rows_only) printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
     }
     if (synth) bench_synth(dem, w, 1024, images);
-    pg_pits_topo t;
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = true;
+    o.sea_level = sea;
+    o.max_depth = 50;
+    o.max_length = 100;
     if (flat) {
         pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
-        bench("flat", &t, dem, sea, stats, only);
+        o.open_edges = true;
+        bench(&b, "flat", &t, dem, &o, RUNS, sizeof RUNS / sizeof *RUNS);
     }
     if (planet) {
         float *cube = malloc(sizeof(float) * 6 * (size_t)N * N);
@@ -299,9 +546,10 @@ int main(int argc, char **argv) {
             return 1;
         }
         pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+        o.open_edges = false;
         char label[64];
         snprintf(label, sizeof label, "planet 6x%ld^2", N);
-        bench(label, &t, cube, sea, stats, only);
+        bench(&b, label, &t, cube, &o, RUNS, sizeof RUNS / sizeof *RUNS);
         free(cube);
     }
     free(dem);

@@ -173,8 +173,9 @@ pg_status pg_cube_from_equirect(pg_cube_projection p, int64_t n, const pg_ellips
  * to a cube vertex one tap can lie past both edges, where no texel exists (three
  * faces meet); that tap is extrapolated from the other three (a + b - c, exact for
  * a plane), which keeps the interpolation second-order there. */
-static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
-                          float *out) {
+static void cube_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUBE_NFACES], int ch,
+                          const double dir[3], float *out) {
+    const int64_t nn = g->n * g->n;
     int face;
     double u, v;
     pg_cube_from_dir(g->proj, dir, &face, &u, &v);
@@ -185,7 +186,8 @@ static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, cons
     for (int k = 0; k < 4; k++) {
         int64_t x = (int64_t)x0 + (k & 1), y = (int64_t)y0 + (k >> 1);
         if ((x < 0 || x >= g->n) && (y < 0 || y >= g->n)) past = k;
-        tap[k] = cube + (size_t)pg_cube_wrap(g, face, x, y, NULL) * ch;
+        int64_t id = pg_cube_wrap(g, face, x, y, NULL);
+        tap[k] = faces[id / nn] + (size_t)(id % nn) * ch;
     }
     for (int c = 0; c < ch; c++) {
         double t[4];
@@ -197,46 +199,69 @@ static void cube_sample_g(const pg_cube_grid *g, const float *cube, int ch, cons
     }
 }
 
+/* The faces of a contiguous cube buffer. */
+static void split_faces(const float *cube, int64_t n, int ch, const float *faces[PG_CUBE_NFACES]) {
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        faces[f] = cube + (size_t)f * (size_t)(n * n) * ch;
+}
+
 void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
                          float *out) {
-    cube_sample_g(g, cube, ch, dir, out);
+    const float *faces[PG_CUBE_NFACES];
+    split_faces(cube, g->n, ch, faces);
+    cube_sample_g(g, faces, ch, dir, out);
 }
 
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out) {
     pg_cube_grid g;
     pg_cube_grid_init_faces(&g, p, n);
-    cube_sample_g(&g, cube, ch, dir, out);
+    const float *faces[PG_CUBE_NFACES];
+    split_faces(cube, n, ch, faces);
+    cube_sample_g(&g, faces, ch, dir, out);
 }
 
-static int equirect_row(const pg_cube_grid *g, const pg_ellipsoid *ell, const float *cube, int ch,
-                        int w, int h, int j, float *dst) {
-    double *lat = malloc((size_t)w * 5 * sizeof *lat);
+/* Pixels [x0, x0 + rw) of row j of a w x h equirectangular grid. */
+static int equirect_row(const pg_cube_grid *g, const pg_ellipsoid *ell,
+                        const float *const faces[PG_CUBE_NFACES], int ch, int w, int h, int x0,
+                        int rw, int j, float *dst) {
+    double *lat = malloc((size_t)rw * 5 * sizeof *lat);
     if (!lat) return -1;
-    double *lon = lat + w, *d = lon + w;
-    for (int i = 0; i < w; i++) {
+    double *lon = lat + rw, *d = lon + rw;
+    for (int i = 0; i < rw; i++) {
         lat[i] = 90 - (j + 0.5) * 180.0 / h;
-        lon[i] = -180 + (i + 0.5) * 360.0 / w;
+        lon[i] = -180 + (x0 + i + 0.5) * 360.0 / w;
     }
-    latlon_to_dirs(ell, (size_t)w, lat, lon, d);
-    for (int i = 0; i < w; i++)
-        cube_sample_g(g, cube, ch, d + 3 * i, dst + (size_t)i * ch);
+    latlon_to_dirs(ell, (size_t)rw, lat, lon, d);
+    for (int i = 0; i < rw; i++)
+        cube_sample_g(g, faces, ch, d + 3 * i, dst + (size_t)i * ch);
     free(lat);
     return 0;
 }
 
-pg_status pg_cube_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
-                              const float *cube, int ch, float *img, int w, int h, pg_error *err) {
+pg_status pg_cube_faces_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
+                                    const float *const faces[PG_CUBE_NFACES], int ch, int w, int h,
+                                    int x0, int y0, int rw, int rh, float *img, pg_error *err) {
     pg_status st = check_image(w, h, ch, "equirect", err);
     if (st != PG_OK) return st;
     if (n < 2)
         return pg_error_set(err, PG_ERR_BADINPUT, "resample: bad face size %lld", (long long)n);
+    if (x0 < 0 || y0 < 0 || rw < 1 || rh < 1 || x0 > w - rw || y0 > h - rh)
+        return pg_error_set(err, PG_ERR_BADINPUT, "resample: region %dx%d+%d+%d outside %dx%d", rw,
+                            rh, x0, y0, w, h);
     pg_cube_grid g;
     pg_cube_grid_init_faces(&g, p, n);
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 4) reduction(| : failed)
-    for (int j = 0; j < h; j++)
-        failed |= equirect_row(&g, ell, cube, ch, w, h, j, img + (size_t)j * w * ch);
+    for (int j = 0; j < rh; j++)
+        failed |= equirect_row(&g, ell, faces, ch, w, h, x0, rw, y0 + j, img + (size_t)j * rw * ch);
     if (failed) return pg_error_set(err, PG_ERR_NOMEM, "resample: out of memory");
     return PG_OK;
+}
+
+pg_status pg_cube_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
+                              const float *cube, int ch, float *img, int w, int h, pg_error *err) {
+    const float *faces[PG_CUBE_NFACES];
+    split_faces(cube, n, ch, faces);
+    return pg_cube_faces_to_equirect(p, n, ell, faces, ch, w, h, 0, 0, w, h, img, err);
 }

@@ -9,6 +9,7 @@
 #include "planetgen/pg_geo.h"
 
 #include <GeographicLib/Constants.hpp>
+#include <GeographicLib/Ellipsoid.hpp>
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/PolygonArea.hpp>
@@ -166,6 +167,23 @@ double pg_geo_polygon_area(const pg_ellipsoid *e, int n, const double *lat, cons
 
 double pg_geo_total_area(const pg_ellipsoid *e) {
     return Geodesic(e->a, e->f).EllipsoidArea();
+}
+
+/* The area between two parallels is that of the authalic sphere between their
+ * authalic latitudes xi: A / (4 pi) * dlon * (sin xi1 - sin xi0), A the ellipsoid's
+ * area. Exact on the ellipsoid (GeographicLib's authalic latitude, to round-off). */
+void pg_geo_latlon_band_areas(const pg_ellipsoid *e, size_t n, const double *lat, double dlon,
+                              double *area) {
+    GeographicLib::Ellipsoid ell(e->a, e->f);
+    const double deg = GeographicLib::Math::degree();
+    const double k = ell.Area() / (4 * GeographicLib::Math::pi()) * std::fabs(dlon) * deg;
+    double s0 = 0;
+    for (size_t i = 0; i <= n; i++) {
+        double phi = std::fmax(-90.0, std::fmin(90.0, lat[i]));
+        double s1 = std::sin(ell.AuthalicLatitude(phi) * deg);
+        if (i > 0) area[i - 1] = k * std::fabs(s1 - s0);
+        s0 = s1;
+    }
 }
 
 } /* extern "C" */

@@ -341,5 +341,6 @@ pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet
     if (st == PG_OK && o->exr) st = export_exr(p, path_for, user, res, err);
     if (st == PG_OK && o->previews)
         st = pg_export_previews(p, o, path_for, user, &res->nfiles, err);
+    if (st == PG_OK && o->geotiff) st = pg_export_geotiff(p, o, path_for, user, &res->nfiles, err);
     return st;
 }

@@ -43,6 +43,11 @@ pg_status pg_export_normal_map(const pg_planet *p, const pg_cube_grid *g,
 pg_status pg_export_previews(const pg_planet *p, const pg_export_opts *o,
                              pg_planet_path_fn path_for, void *user, int *nfiles, pg_error *err);
 
+/* The GIS rasters (pg_export_geotiff.c): height.tif and albedo.tif, or with
+ * o->geotiff_tiled one pair per tile plus height.vrt and albedo.vrt. */
+pg_status pg_export_geotiff(const pg_planet *p, const pg_export_opts *o, pg_planet_path_fn path_for,
+                            void *user, int *nfiles, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -36,6 +36,19 @@ static inline void fixture_planet_dir(const char *tag, int tiles, int tile_size,
     pg_exemplar_free(&ex);
 }
 
+/* `planetgen export DIR -o DIR/bad OPTS` must exit 2 with `needle` in its message
+ * and write nothing. */
+static inline void fixture_export_refused(const char *dir, const char *opts, const char *needle) {
+    char args[4096], err[4096], out[1200];
+    snprintf(out, sizeof out, "%s/bad", dir);
+    snprintf(args, sizeof args, "export '%s' -o '%s' %s", dir, out, opts);
+    int rc = pg_test_run_cli(args, NULL, 0, err, sizeof err);
+    printf("%s -> %d: %s", opts, rc, err);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(err, needle));
+    assert_int_equal(pg_test_count_files(out), 0); /* nothing written */
+}
+
 /* Run a shell command, capturing its stdout into out; returns the exit status. */
 static inline int fixture_sh(const char *cmd, char *out, size_t size) {
     FILE *f = popen(cmd, "r");

@@ -2,7 +2,8 @@
 #   unit    one module's library code on constructed or small real inputs; together
 #           they cover every module, and `ctest -L unit` is the quick subset
 #   e2e     the planetgen command end to end on real data
-#   client  a real client tool reads our output (Blender, f3d, the glTF validator)
+#   client  a real client tool reads our output (Blender, f3d, the glTF validator,
+#           Chromium)
 #   mpi     mpirun with several ranks
 #   slow    many minutes natively (the realism report's 8 planets, the texture
 #           comparison on the real exemplar)
@@ -21,10 +22,10 @@ set(PG_LABEL_unit
     test_synth_engine test_plates test_climate)
 set(PG_LABEL_e2e
     test_bad_input test_cli test_cube_cli test_determinism test_export_cli test_generate_cli
-    test_inspect test_install test_pits_cli test_pits_relief test_realism_e2e
+    test_inspect test_install test_pits_cli test_pits_gdal test_pits_relief test_realism_e2e
     test_resource_limits test_synth_cli test_synth_quality test_export_blender test_export_f3d
-    test_export_gltf test_mpi_generate test_world)
-set(PG_LABEL_client test_export_blender test_export_f3d test_export_gltf)
+    test_export_geotiff test_export_gltf test_mpi_generate test_world test_view)
+set(PG_LABEL_client test_export_blender test_export_f3d test_export_gltf test_view)
 set(PG_LABEL_mpi test_mpi_generate test_mpi_pits)
 set(PG_LABEL_slow test_realism_e2e test_inspect)
 

@@ -1,12 +1,14 @@
 /* test_cube_geodesy.c - the GeographicLib adapter: presets, parsing, direction <->
  * geodetic lat/lon round trips on a sphere and on WGS84 (where geodetic latitude of
  * the ray point differs from the geocentric angle by up to ~0.19 degrees), ECEF
- * heights along the normal, and polygon areas against closed forms. */
+ * heights along the normal, polygon areas against closed forms, and the cells of
+ * latitude/longitude grids: their true areas and what a georeferencing says of them. */
 #include "pg_test.h"
 
 #include "planetgen/pg_geo.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PG_PI 3.14159265358979323846
@@ -89,12 +91,82 @@ static void test_areas(void **state) {
     assert_true(fabs(pg_geo_total_area(&w) / 5.10065621724e14 - 1) < 1e-9);
 }
 
+/* Latitude/longitude cells: the sphere's closed form, a whole-globe WGS84 grid summing
+ * to the ellipsoid's area, and a small cell against the geodesic quadrilateral. */
+static void test_band_areas(void **state) {
+    (void)state;
+    pg_ellipsoid s = pg_ellipsoid_sphere(), w = pg_ellipsoid_wgs84();
+    double lat[4] = {90, 60, 10, -35}, area[3];
+    pg_geo_latlon_band_areas(&s, 3, lat, 2.5, area);
+    for (int i = 0; i < 3; i++) {
+        double exact = s.a * s.a * 2.5 * PG_PI / 180 *
+                       (sin(lat[i] * PG_PI / 180) - sin(lat[i + 1] * PG_PI / 180));
+        assert_true(fabs(area[i] / exact - 1) < 1e-12);
+    }
+    /* 1-degree rows of a whole-globe grid, 360 cells each */
+    double edges[181], rows[180], sum = 0;
+    for (int j = 0; j <= 180; j++)
+        edges[j] = 90 - j;
+    pg_geo_latlon_band_areas(&w, 180, edges, 1.0, rows);
+    for (int j = 0; j < 180; j++)
+        sum += 360 * rows[j];
+    assert_true(fabs(sum / pg_geo_total_area(&w) - 1) < 1e-12);
+    assert_true(rows[0] < rows[45] && rows[45] < rows[89] && fabs(rows[89] / rows[90] - 1) < 1e-12);
+    /* a 0.01-degree cell: its geodesic edges differ from the parallels by < 1e-7 */
+    double cl[2] = {45.01, 45.0}, cell;
+    pg_geo_latlon_band_areas(&w, 1, cl, 0.01, &cell);
+    double ql[4] = {45, 45, 45.01, 45.01}, qo[4] = {7, 7.01, 7.01, 7};
+    assert_true(fabs(cell / pg_geo_polygon_area(&w, 4, ql, qo, NULL) - 1) < 1e-7);
+}
+
+/* Row areas from a georeferencing: geographic (true areas, whole-globe detection),
+ * projected (the geotransform's determinant in metres), and none (refused). */
+static void test_raster_cells(void **state) {
+    (void)state;
+    pg_error err = {0};
+    pg_georef g = {0};
+    pg_ellipsoid w = pg_ellipsoid_wgs84();
+    assert_int_equal(pg_geo_raster_global(&w, 720, 360, &g, &err), PG_OK);
+    assert_true(g.kind == PG_CRS_GEOGRAPHIC && fabs(g.a - w.a) < 1e-6 && fabs(g.f - w.f) < 1e-15);
+    assert_non_null(strstr(g.crs_wkt, "4326"));
+    assert_true(pg_geo_raster_is_global(&g, 720, 360));
+    assert_false(pg_geo_raster_is_global(&g, 720, 359));
+    double *rows = malloc(360 * sizeof *rows), sum = 0;
+    assert_int_equal(pg_geo_raster_row_areas(&g, 720, 360, "t", rows, &err), PG_OK);
+    for (int j = 0; j < 360; j++)
+        sum += 720 * rows[j];
+    assert_true(fabs(sum / pg_geo_total_area(&w) - 1) < 1e-12);
+    /* a regional grid is not global; a projected one has constant cells */
+    g.transform[0] = 0, g.transform[3] = 45;
+    assert_false(pg_geo_raster_is_global(&g, 720, 360));
+    g.kind = PG_CRS_PROJECTED;
+    g.unit = 0.3048; /* feet */
+    const double t[6] = {500000, 30, 0, 5200000, 0, -20};
+    memcpy(g.transform, t, sizeof t);
+    assert_int_equal(pg_geo_raster_row_areas(&g, 720, 360, "t", rows, &err), PG_OK);
+    assert_true(fabs(rows[0] - 600 * 0.3048 * 0.3048) < 1e-9 && rows[359] == rows[0]);
+    assert_false(pg_geo_raster_is_global(&g, 720, 360));
+    g.kind = PG_CRS_NONE;
+    assert_int_equal(pg_geo_raster_row_areas(&g, 720, 360, "in.tif", rows, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "in.tif"));
+    free(rows);
+    pg_georef_free(&g);
+    /* another planet gets a CRS on its own sphere, not EPSG:4326 */
+    pg_ellipsoid mars = {3389500, 0};
+    assert_int_equal(pg_geo_raster_global(&mars, 64, 32, &g, &err), PG_OK);
+    assert_null(strstr(g.crs_wkt, "4326"));
+    assert_true(g.kind == PG_CRS_GEOGRAPHIC && g.a == 3389500 && g.f == 0);
+    pg_georef_free(&g);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_presets_and_parse),
         cmocka_unit_test(test_round_trips),
         cmocka_unit_test(test_ecef),
         cmocka_unit_test(test_areas),
+        cmocka_unit_test(test_band_areas),
+        cmocka_unit_test(test_raster_cells),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,28 +9,17 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static void expect_bad(const char *dir, const char *opts, const char *needle) {
-    char args[4096], err[4096], out[1200];
-    snprintf(out, sizeof out, "%s/bad", dir);
-    snprintf(args, sizeof args, "export '%s' -o '%s' %s", dir, out, opts);
-    int rc = pg_test_run_cli(args, NULL, 0, err, sizeof err);
-    printf("%s -> %d: %s", opts, rc, err);
-    assert_int_equal(rc, 2);
-    assert_non_null(strstr(err, needle));
-    assert_int_equal(pg_test_count_files(out), 0); /* nothing written */
-}
-
 static void test_bad_input(void **s) {
     (void)s;
     char dir[1024];
     fixture_planet_dir("export_cli_bad", 2, 32, dir, sizeof dir);
-    expect_bad(dir, "--texture-format gif", "--texture-format 'gif'");
-    expect_bad(dir, "--mesh-res 48", "--mesh-res 48"); /* does not divide 64 texels */
-    expect_bad(dir, "--mesh-res 5", "--mesh-res 5");   /* not a multiple of 2 tiles */
-    expect_bad(dir, "--mesh-res 128", "--mesh-res 128");
-    expect_bad(dir, "--exaggeration -1", "--exaggeration");
-    expect_bad(dir, "--exaggeration 1e9", "--exaggeration");
-    expect_bad(dir, "--exaggeration 900", "quarter of the"); /* Earth's relief x 900 */
+    fixture_export_refused(dir, "--texture-format gif", "--texture-format 'gif'");
+    fixture_export_refused(dir, "--mesh-res 48", "--mesh-res 48"); /* does not divide 64 texels */
+    fixture_export_refused(dir, "--mesh-res 5", "--mesh-res 5");   /* not a multiple of 2 tiles */
+    fixture_export_refused(dir, "--mesh-res 128", "--mesh-res 128");
+    fixture_export_refused(dir, "--exaggeration -1", "--exaggeration");
+    fixture_export_refused(dir, "--exaggeration 1e9", "--exaggeration");
+    fixture_export_refused(dir, "--exaggeration 900", "quarter of the"); /* Earth's relief x 900 */
     char args[2048], err[4096];
     snprintf(args, sizeof args, "export '%s/nonexistent'", dir);
     assert_int_equal(pg_test_run_cli(args, NULL, 0, err, sizeof err), 2);

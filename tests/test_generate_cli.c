@@ -108,25 +108,41 @@ static void ocean_albedo(int x, int y, float *c) {
     c[0] = 0.02f, c[1] = 0.05f + 0.05f * (float)((x * 7 + y * 13) % 11) / 10.0f, c[2] = 0.3f;
 }
 
-static void test_preset_without_texels(void **state) {
-    (void)state;
-    char dir[512], a[600], h[600], args[2048];
-    pg_test_scratch_dir("generate-cli-preset", dir, sizeof dir);
-    snprintf(a, sizeof a, "%s/albedo.png", dir);
+/* An exemplar that is all ocean (256 x 128, depths -3000..-3500 m) in dir. */
+static void ocean_exemplar(const char *name, char *dir, size_t dsize, char *a, char *h) {
+    pg_test_scratch_dir(name, dir, dsize);
+    snprintf(a, 600, "%s/albedo.png", dir);
     write_png(a, 256, 128, ocean_albedo);
     pg_image img;
     pg_error e = {0};
     assert_int_equal(pg_image_alloc(&img, 256, 128, 1, &e), PG_OK);
     for (int i = 0; i < 256 * 128; i++)
         img.data[i] = -3000.0f - 500.0f * (float)((i * 31) % 17) / 16.0f;
-    snprintf(h, sizeof h, "%s/height.exr", dir);
+    snprintf(h, 600, "%s/height.exr", dir);
     assert_int_equal(pg_image_write_exr(h, &img, NULL, &e), PG_OK);
     pg_image_free(&img);
+}
+
+static void test_preset_without_texels(void **state) {
+    (void)state;
+    char dir[512], a[600], h[600], args[2048];
+    ocean_exemplar("generate-cli-preset", dir, sizeof dir, a, h);
     snprintf(args, sizeof args,
-             "generate --tiles 1 --tile-size 32 --preset desert --albedo %s --height %s "
-             "--no-cache -o %s/o",
+             "generate --layout free --tiles 1 --tile-size 32 --preset desert --albedo %s "
+             "--height %s --no-cache -o %s/o",
              a, h, dir);
     expect_bad(args, "no exemplar texel");
+}
+
+/* layout world (the default) takes its hypsometry from the exemplar's land and ocean */
+static void test_world_exemplar_without_land(void **state) {
+    (void)state;
+    char dir[512], a[600], h[600], args[2048];
+    ocean_exemplar("generate-cli-world-ocean", dir, sizeof dir, a, h);
+    snprintf(args, sizeof args,
+             "generate --tiles 1 --tile-size 32 --albedo %s --height %s --no-cache -o %s/o", a, h,
+             dir);
+    expect_bad(args, "the exemplar has no land");
 }
 
 static void test_small_planet(void **state) {
@@ -139,9 +155,11 @@ static void test_small_planet(void **state) {
              getenv("PG_BUILD_DIR"), dir, dir);
     int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
     if (rc != 0) fail_msg("exit %d: %s", rc, err);
-    const char *files[] = {"planet.json",   "height.exr", "albedo_+X.png",
-                           "albedo_-Z.png", "albedo.png", "relief.png"};
-    for (int i = 0; i < 6; i++) {
+    /* the default layout is world: its macro fields are written too */
+    const char *files[] = {"planet.json",   "height.exr",  "albedo_+X.png",
+                           "albedo_-Z.png", "albedo.png",  "relief.png",
+                           "plates.png",    "climate.png", "world.exr"};
+    for (int i = 0; i < 9; i++) {
         snprintf(path, sizeof path, "%s/p/%s", dir, files[i]);
         if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
     }
@@ -156,12 +174,27 @@ static void test_small_planet(void **state) {
     assert_non_null(after);
     assert_non_null(strstr(after, "\"depressions\": 0"));
     assert_non_null(strstr(json, "\"land_agreement\""));
+    /* planet.json says how the planet was made */
+    snprintf(path, sizeof path, "%s/p/planet.json", dir);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    n = fread(json, 1, sizeof json - 1, f);
+    json[n] = 0;
+    fclose(f);
+    const char *gen = strstr(json, "\"generation\"");
+    if (!gen) fail_msg("planet.json has no generation record: %s", json);
+    assert_non_null(strstr(gen, "\"layout\": \"world\""));
+    assert_non_null(strstr(gen, "\"plates\": 14"));
+    assert_non_null(strstr(gen, "\"land_fraction\": 0.29"));
 }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_type_map_colours), cmocka_unit_test(test_bad_sizes),
-        cmocka_unit_test(test_bad_maps),         cmocka_unit_test(test_preset_without_texels),
+        cmocka_unit_test(test_type_map_colours),
+        cmocka_unit_test(test_bad_sizes),
+        cmocka_unit_test(test_bad_maps),
+        cmocka_unit_test(test_preset_without_texels),
+        cmocka_unit_test(test_world_exemplar_without_land),
         cmocka_unit_test(test_small_planet),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

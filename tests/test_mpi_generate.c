@@ -1,6 +1,6 @@
 /* test_mpi_generate.c - `mpirun -np N planetgen generate` (docs/mpi.md) end to end: the
  * tiled output of 1, 2 and 4 ranks is byte for byte the single-process tiled output
- * (default pits, --pits off, other final pit methods, a magnified planet); a rank that
+ * (default pits, --pits off, other final pit methods, --geotiff, a magnified planet); a rank that
  * dies mid-run makes the job exit non-zero with its line and leaves no output; more
  * ranks than tiles and the single-file layout under mpirun exit 2 with one line.
  *
@@ -149,6 +149,14 @@ static void test_identical_final_fill_hybrid(void **state) {
     expect_identical("mpi-hybrid", "--tiles 2 --tile-size 32 --seed 7 --final-pits hybrid", nps, 1);
 }
 
+/* --geotiff: rank 0 reads the other ranks' tiles back and writes the GeoTIFF tiles and
+ * their VRT mosaics (docs/export.md), the same bytes as one process. */
+static void test_identical_geotiff(void **state) {
+    (void)state;
+    const int nps[] = {2};
+    expect_identical("mpi-geotiff", "--tiles 2 --tile-size 32 --seed 5 --geotiff", nps, 1);
+}
+
 /* A magnified planet (N = 1024 > the exemplar's 512: the delivery reads two synthesized
  * texels beyond each tile), --pits off so that the width-2 exchange is what feeds it. */
 static void test_identical_magnified(void **state) {
@@ -231,6 +239,7 @@ int main(void) {
         cmocka_unit_test(test_identical_default),
         cmocka_unit_test(test_identical_pits_off),
         cmocka_unit_test(test_identical_final_fill_hybrid),
+        cmocka_unit_test(test_identical_geotiff),
         cmocka_unit_test(test_identical_magnified),
         cmocka_unit_test(test_rank_failure),
     };

@@ -309,6 +309,92 @@ static void test_stats(void **state) {
     }
 }
 
+/* The statistics against an independent reference: depressions are the 8-connected
+ * regions the brute-force minimal fill raises, their volume sum (minimal epsilon-surface
+ * - h). On random grids (pitted, flats, sinks of every kind) and on the result of every
+ * method (where the count mostly takes its linear no-depression path, which must give
+ * exactly 0 everywhere and the same sink count). */
+static void check_stats_reference(const chk_graph *g, const pg_pits_topo *t, const float *dem,
+                                  const pg_pits_opts *o, int w, int h) {
+    uint8_t *sk = chk_sinks(dem, g->n, o->has_sea_level, o->sea_level, NULL, o->open_edges, w, h);
+    float *ref = chk_minimal_fill(g, dem, sk), *eref = chk_minimal_fill_eps(g, dem, sk, 1);
+    uint8_t *seen = calloc(g->n, 1);
+    uint32_t *q = malloc(sizeof(uint32_t) * g->n);
+    uint64_t regions = 0, cells = 0, nsinks = 0;
+    double volume = 0;
+    for (size_t i = 0; i < g->n; i++) {
+        nsinks += sk[i];
+        if (seen[i] || !(ref[i] > dem[i])) continue;
+        regions++;
+        size_t head = 0, tail = 0;
+        q[tail++] = (uint32_t)i;
+        seen[i] = 1;
+        while (head < tail) {
+            uint32_t c = q[head++];
+            cells++;
+            volume += (double)eref[c] - (double)dem[c];
+            for (int j = 0; j < g->cnt[c]; j++) {
+                uint32_t n = g->nb[8 * (size_t)c + j];
+                if (!seen[n] && ref[n] > dem[n]) seen[n] = 1, q[tail++] = n;
+            }
+        }
+    }
+    pg_pits_stats st;
+    assert_int_equal(pg_pits_stats_compute(t, dem, o, NULL, &st, NULL), PG_OK);
+    assert_int_equal(st.depressions, regions);
+    assert_int_equal(st.depression_cells, cells);
+    assert_true(st.depression_area_m2 == (double)cells);
+    assert_true(fabs(st.depression_volume_m3 - volume) <= 1e-9 * (1 + fabs(volume)));
+    if (!nsinks) nsinks = 1; /* the lowest cell */
+    assert_int_equal(st.sinks, nsinks);
+    free(q);
+    free(seen);
+    free(eref);
+    free(ref);
+    free(sk);
+}
+
+static void test_stats_reference(void **state) {
+    (void)state;
+    uint64_t with_depressions = 0, after_zero = 0;
+    for (uint32_t seed = 200; seed < 240; seed++) {
+        int w = 1 + (int)(hash32(seed, 1) % 30), h = 1 + (int)(hash32(seed, 2) % 30);
+        float *dem = random_dem(seed, w, h);
+        chk_graph g = chk_grid_graph(w, h);
+        pg_pits_topo t;
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        set_sinks(&o, seed);
+        o.max_depth = 6;
+        o.max_length = 5;
+        check_stats_reference(&g, &t, dem, &o, w, h);
+        pg_pits_stats st;
+        pg_pits_stats_compute(&t, dem, &o, NULL, &st, NULL);
+        with_depressions += st.depressions > 0;
+        float *out = malloc(sizeof(float) * g.n);
+        for (size_t v = 0; v < sizeof VARIANTS / sizeof *VARIANTS; v++) {
+            memcpy(out, dem, sizeof(float) * g.n);
+            o.method = VARIANTS[v].m;
+            o.epsilon = VARIANTS[v].eps;
+            o.descent = VARIANTS[v].descent;
+            assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+            check_stats_reference(&g, &t, out, &o, w, h);
+            /* (without sea and edges, carving may move the lowest cell, the sink) */
+            assert_int_equal(pg_pits_stats_compute(&t, out, &o, NULL, &st, NULL), PG_OK);
+            if (!st.depressions) {
+                assert_true(st.depression_volume_m3 == 0.0 && st.max_depth_m == 0.0);
+                after_zero++;
+            }
+        }
+        free(out);
+        chk_graph_free(&g);
+        free(dem);
+    }
+    assert_true(with_depressions > 20); /* the reference was not only zeros */
+    assert_true(after_zero > 300);      /* and the no-depression path ran */
+}
+
 /* No-data cells: refused without a stated value; with one, left alone as outlets. */
 static void test_bad_input_and_nodata(void **state) {
     (void)state;
@@ -347,10 +433,10 @@ static void test_bad_input_and_nodata(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_all_methods_drain),    cmocka_unit_test(test_exact_fill),
-        cmocka_unit_test(test_hybrid_limits),        cmocka_unit_test(test_hybrid_length_limit),
-        cmocka_unit_test(test_thread_invariance),    cmocka_unit_test(test_stats),
-        cmocka_unit_test(test_bad_input_and_nodata),
+        cmocka_unit_test(test_all_methods_drain), cmocka_unit_test(test_exact_fill),
+        cmocka_unit_test(test_hybrid_limits),     cmocka_unit_test(test_hybrid_length_limit),
+        cmocka_unit_test(test_thread_invariance), cmocka_unit_test(test_stats),
+        cmocka_unit_test(test_stats_reference),   cmocka_unit_test(test_bad_input_and_nodata),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -171,6 +171,84 @@ static void test_land_fraction(void **state) {
     }
 }
 
+/* Area-weighted share of the world's land (ocean) at or below z. */
+static double share_below(const pg_plates_world *w, int land, double z) {
+    double below = 0, total = 0;
+    for (int64_t t = 0; t < count(w); t++)
+        if ((w->elevation_m[t] > 0) == land) {
+            total += w->area_km2[t];
+            if (w->elevation_m[t] <= z) below += w->area_km2[t];
+        }
+    return below / total;
+}
+
+/* The hypsometry match keeps every coast and every texel's rank and gives the target's
+ * distribution: a target whose land heights are uniform on 1..5001 m and ocean depths on
+ * -8000..-1 m has its quartiles at 1251, 2501, 3751 m (-6000, -4000, -2000 m) after the
+ * match, to a texel's area; tables that are too short or not ascending are refused. */
+static void test_hypsometry(void **state) {
+    (void)state;
+    pg_plates_params p;
+    pg_plates_params_default(&p);
+    pg_plates_world w;
+    gen(&p, &w);
+    const int64_t c = count(&w);
+    float *before = malloc((size_t)c * sizeof *before);
+    assert_non_null(before);
+    memcpy(before, w.elevation_m, (size_t)c * sizeof *before);
+    enum { NQ = 101 };
+    float land[NQ], ocean[NQ];
+    for (int i = 0; i < NQ; i++) {
+        land[i] = 1.0f + 5000.0f * i / (NQ - 1);
+        ocean[i] = -8000.0f + 7999.0f * i / (NQ - 1);
+    }
+    pg_plates_hypsometry h = {NQ, land, ocean, NULL};
+    pg_error err = {0};
+    assert_int_equal(pg_plates_match_hypsometry(&w, &h, &err), PG_OK);
+    int64_t coast = 0, order = 0, pairs = 0;
+    for (int64_t t = 0; t < c; t++) {
+        coast += (before[t] > 0) != (w.elevation_m[t] > 0);
+        int64_t u = (t * 7919 + 13) % c; /* a pseudo-random partner of the same kind */
+        if ((before[t] > 0) == (before[u] > 0) && before[t] < before[u]) {
+            pairs++;
+            order += w.elevation_m[t] > w.elevation_m[u];
+        }
+    }
+    assert_int_equal(coast, 0);
+    assert_true(pairs > 1000);
+    assert_int_equal(order, 0);
+    for (int k = 1; k <= 3; k++) {
+        double lq = share_below(&w, 1, 1.0 + 5000.0 * k / 4),
+               oq = share_below(&w, 0, -8000.0 + 7999.0 * k / 4);
+        print_message("quartile %d: land share below %.3f, ocean %.3f\n", k, lq, oq);
+        assert_true(fabs(lq - k / 4.0) < 0.01);
+        assert_true(fabs(oq - k / 4.0) < 0.01);
+    }
+    /* a rank offset lifts its texels above all others: the 5% lowest land (an ice sheet
+     * on lowland) with 10 km added ends up at the top of the land */
+    float *off = calloc((size_t)c, sizeof *off);
+    assert_non_null(off);
+    int64_t lifted = 0;
+    for (int64_t t = 0; t < c; t++)
+        if (w.elevation_m[t] > 0 && w.elevation_m[t] < 1.0 + 5000.0 * 0.05)
+            off[t] = 10000, lifted++;
+    assert_true(lifted > 100);
+    pg_plates_hypsometry ho = {NQ, land, ocean, off};
+    assert_int_equal(pg_plates_match_hypsometry(&w, &ho, &err), PG_OK);
+    for (int64_t t = 0; t < c; t++)
+        if (off[t] > 0) assert_true(w.elevation_m[t] > 1.0 + 5000.0 * 0.94);
+    free(off);
+    float bad[NQ];
+    memcpy(bad, land, sizeof bad);
+    bad[50] = 0; /* not ascending */
+    pg_plates_hypsometry hb = {NQ, bad, ocean, NULL};
+    assert_int_equal(pg_plates_match_hypsometry(&w, &hb, &err), PG_ERR_BADINPUT);
+    pg_plates_hypsometry hs = {1, land, ocean, NULL};
+    assert_int_equal(pg_plates_match_hypsometry(&w, &hs, &err), PG_ERR_BADINPUT);
+    free(before);
+    pg_plates_world_free(&w);
+}
+
 static void test_macro_structure(void **state) {
     (void)state;
     int shaped = 0, belts = 0, ocean = 0, land = 0;
@@ -257,7 +335,7 @@ int main(void) {
         cmocka_unit_test(test_bad_input),       cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_plate_areas),     cmocka_unit_test(test_boundary_kinds),
         cmocka_unit_test(test_land_fraction),   cmocka_unit_test(test_render),
-        cmocka_unit_test(test_macro_structure),
+        cmocka_unit_test(test_macro_structure), cmocka_unit_test(test_hypsometry),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

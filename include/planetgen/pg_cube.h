@@ -212,6 +212,14 @@ pg_status pg_cube_from_equirect(pg_cube_projection p, int64_t n, const pg_ellips
 pg_status pg_cube_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
                               const float *cube, int ch, float *img, int w, int h, pg_error *err);
 
+/* The same from six separate face buffers (n*n texels of ch floats each), for the
+ * region of rw x rh pixels at (x0, y0) of the w x h equirectangular grid (img holds
+ * rw*rh*ch floats): the pixels have exactly the values of the whole-image call, so
+ * an image cut into tiles is the whole image cut. */
+pg_status pg_cube_faces_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
+                                    const float *const faces[PG_CUBE_NFACES], int ch, int w, int h,
+                                    int x0, int y0, int rw, int rh, float *img, pg_error *err);
+
 /* Bilinear sample of a cube buffer at a direction (ch floats to out). */
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out);

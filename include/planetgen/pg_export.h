@@ -18,6 +18,18 @@
  *   globe_north.png, globe_south.png, globe_lon000.png, globe_lon180.png
  *                        orthographic renders from above the poles and above the
  *                        equator at longitudes 0 and 180
+ *   height.tif, albedo.tif   with o->geotiff: the planet as GIS rasters, written by
+ *                        GDAL (pg_raster.h): equirectangular, 4N x 2N pixels (N the
+ *                        face's texels), resampled from the cube by
+ *                        pg_cube_faces_to_equirect; heights float32 metres with a
+ *                        NoData tag, albedo 8-bit sRGB RGB. The CRS is EPSG:4326 for
+ *                        a WGS84 planet, else latitude/longitude on the planet's own
+ *                        sphere or ellipsoid; extent -180..180, -90..90.
+ *   height_R_C.tif, albedo_R_C.tif, height.vrt, albedo.vrt
+ *                        with o->geotiff_tiled instead: the same rasters cut into
+ *                        4T x 2T tiles of S x S pixels (row R from the north, column
+ *                        C from -180 degrees; T tiles of S texels per face edge),
+ *                        each a GeoTIFF, and a GDAL VRT mosaic of each set
  *
  * THE MESH. Each face is a grid of M x M quads (--mesh-res M, a multiple of the
  * tiles per face edge T that divides the face's N = T*S texels, so quads cover whole
@@ -54,6 +66,11 @@ extern "C" {
 #define PG_EXPORT_GLB_NAME "planet.glb"
 #define PG_EXPORT_ALBEDO_PREVIEW "albedo.png"
 #define PG_EXPORT_RELIEF_PREVIEW "relief.png"
+#define PG_EXPORT_GEOTIFF_HEIGHT "height"
+#define PG_EXPORT_GEOTIFF_ALBEDO "albedo"
+/* The NoData value of the height GeoTIFFs (no height is ever this; the tag is written
+ * so that no tool takes 0 for NoData). */
+#define PG_EXPORT_GEOTIFF_NODATA (-3.4028234663852886e38)
 
 typedef enum pg_export_texture_format {
     PG_EXPORT_TEXTURE_PNG,
@@ -67,6 +84,8 @@ typedef struct pg_export_opts {
     int jpeg_quality;                        /* 1..100 */
     bool external_textures;                  /* textures as separate files */
     bool glb, exr, previews;                 /* which outputs to write */
+    bool geotiff;                            /* the GIS rasters (off by default) */
+    bool geotiff_tiled;                      /* ... as tiles plus VRT mosaics */
     int preview_width;                       /* equirect width; 0: 4 face widths, at most 2048 */
     int globe_size;                          /* orthographic render size in pixels */
 } pg_export_opts;
@@ -105,6 +124,24 @@ typedef struct pg_export_result {
  * pg_planet.h); the caller commits (renames) them. res may be NULL. */
 pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet_path_fn path_for,
                           void *user, pg_export_result *res, pg_error *err);
+
+/* ---- the browser viewer (docs/export.md, "The browser viewer") ----
+ * A page that shows a planet's .glb as a globe with three.js: index.html, viewer.js,
+ * three.js under three/ (with its LICENSE), and viewer.json {"glb": URL} naming the
+ * .glb, relative to the viewer directory. Everything is compiled into the library;
+ * the page loads nothing from the network, but browsers load its ES modules only over
+ * HTTP, not from file://. */
+#define PG_EXPORT_VIEWER_DIR "viewer"
+#define PG_EXPORT_VIEWER_PAGE "index.html"
+
+/* Was three.js compiled in (npm at build time)? Without it the page cannot run. */
+bool pg_export_viewer_available(void);
+
+/* Write the viewer's files through path_for. Names contain "/" for subdirectories
+ * (three/build/three.module.js): path_for must create the directories. PG_ERR_IO when
+ * this build lacks three.js (pg_export_viewer_available). */
+pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
+                                 pg_error *err);
 
 #ifdef __cplusplus
 }

@@ -12,7 +12,9 @@
 #define PLANETGEN_PG_GEO_H
 
 #include "planetgen/pg_ellipsoid.h"
+#include "planetgen/pg_raster.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -47,6 +49,32 @@ void pg_geo_polygons(const pg_ellipsoid *e, size_t npoly, int nvert, const doubl
 
 /* Total surface area of the ellipsoid. */
 double pg_geo_total_area(const pg_ellipsoid *e);
+
+/* Areas (m^2) of the n cells of a latitude/longitude grid column: cell i lies between
+ * the parallels lat[i] and lat[i+1] (degrees, n+1 of them, either order, clamped to
+ * +-90) and spans dlon degrees of longitude. Exact on the ellipsoid: the cells of a
+ * whole-globe grid sum to pg_geo_total_area. */
+void pg_geo_latlon_band_areas(const pg_ellipsoid *e, size_t n, const double *lat, double dlon,
+                              double *area);
+
+/* ---- georeferenced rasters (pg_raster.h; cubesphere/pg_geo_raster.c) ---- */
+
+/* Does the width x height raster g describe have usable cell sizes: a geotransform and
+ * a geographic or projected CRS? */
+bool pg_geo_raster_has_cells(const pg_georef *g);
+/* The area (m^2) of a cell in each of the height rows of a width x height raster:
+ * geographic CRS - the true areas on the CRS's ellipsoid (north-up grids; a rotated
+ * geotransform is refused); projected CRS - |det| of the geotransform in metres^2.
+ * BADINPUT naming `what` when the georeferencing gives no cell sizes. */
+pg_status pg_geo_raster_row_areas(const pg_georef *g, int width, int height, const char *what,
+                                  double *rows, pg_error *err);
+/* Is the raster a whole-globe geographic grid: north-up, 360 degrees of longitude and
+ * +90 to -90 of latitude, to a hundredth of a cell? */
+bool pg_geo_raster_is_global(const pg_georef *g, int width, int height);
+/* The georeferencing of a whole-globe latitude/longitude grid of width x height cells
+ * on ellipsoid e (west edge -180, north edge +90; CRS by pg_raster_geographic_crs). */
+pg_status pg_geo_raster_global(const pg_ellipsoid *e, int width, int height, pg_georef *g,
+                               pg_error *err);
 
 #ifdef __cplusplus
 }

@@ -42,6 +42,17 @@ typedef struct pg_planet_source {
     uint32_t *coords[PG_CUBE_NFACES]; /* n*n, pg_synth_pack(face, u, v), orientation 0 */
 } pg_planet_source;
 
+/* How the planet was made, as planet.json's "generation" records it (docs/generate.md,
+ * "Outputs"): the layout, and for layout world the macro world's parameters. An empty
+ * layout (as pg_planet_alloc leaves it) writes no record. */
+typedef struct pg_planet_generation {
+    char layout[16]; /* "world", "earth" or "free" */
+    int plates;      /* layout world: the others leave 0 and the figures below unset */
+    double land_fraction, axial_tilt_deg, temperature_offset_K;
+    double jitter;
+    int passes;
+} pg_planet_generation;
+
 typedef struct pg_planet {
     int tiles, tile_size;
     int64_t n; /* texels per face edge: tiles * tile_size */
@@ -56,6 +67,7 @@ typedef struct pg_planet {
     /* Share of land area (above sea_level) that drained into closed basins, not the sea,
      * before the final pit pass (pg_drainage_closed_land_share); NaN when unknown. */
     double closed_land_share_before_final;
+    pg_planet_generation generation;
 } pg_planet;
 
 /* Allocate the faces (zeroed) and set the geometry. */
@@ -123,8 +135,10 @@ pg_status pg_planet_save_dir(const pg_planet *p, const char *dir, pg_error *err)
  * (borrowed), face size, projection, ellipsoid and sea level. */
 pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p);
 
-/* Load a planet directory written by pg_planet_save. Missing files are named in
- * the error; a directory without planet.json is "not a planet output". */
+/* Load a planet directory written by pg_planet_save, or a tiled one written by
+ * pg_planet_save_tiles and pg_planet_save_index (pg_planet_tiles.h: index.json and no
+ * planet.json). Missing files are named in the error; a directory with neither JSON
+ * file is "not a planet output". */
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err);
 
 #ifdef __cplusplus

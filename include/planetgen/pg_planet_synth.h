@@ -78,6 +78,13 @@ struct pg_climate;
 pg_status pg_planet_world_exemplar_climate(const pg_synth_exemplar *ex, int64_t n,
                                            struct pg_climate *out, pg_error *err);
 
+/* The exemplar's hypsometry at the macro world's scale: its heights averaged to n texels
+ * a face edge (as above), area-weighted, as nq quantiles of the land (> 0 m) into land_m
+ * and of the ocean (<= 0 m) into ocean_m, ascending (caller-owned, nq each; nq >= 2), for
+ * pg_plates_match_hypsometry. */
+pg_status pg_planet_world_exemplar_hypsometry(const pg_synth_exemplar *ex, int64_t n, int nq,
+                                              float *land_m, float *ocean_m, pg_error *err);
+
 #define PG_PLANET_KEEP_AUTO (-1)     /* keep_levels by ground scale */
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
 #define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
@@ -126,7 +133,7 @@ typedef struct pg_planet_synth_dist {
 typedef struct pg_planet_synth_params {
     int tiles, tile_size;        /* T, S; S must be a multiple of 2^(levels-1) */
     pg_synth_params synth;       /* seed, jitter, passes, ... (tile_size ignored) */
-    pg_planet_layout layout;     /* default earth */
+    pg_planet_layout layout;     /* default earth (world needs `world` set; the CLI's default) */
     int keep_levels;             /* layout earth: top levels without jitter; default
                                     PG_PLANET_KEEP_AUTO (pg_planet_synth_keep_levels) */
     const pg_guide *guide;       /* NULL: none */

@@ -32,6 +32,24 @@ pg_status pg_planet_save_tiles(const pg_planet *p, int first, int last, pg_plane
 pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                                pg_error *err);
 
+/* Is dir a tiled planet directory (index.json and no planet.json)? */
+bool pg_planet_dir_is_tiled(const char *dir);
+
+/* Load a tiled planet directory whole: index.json's parameters, every tile's albedo
+ * and heights pasted into the six faces (no coordinate map). Missing or mis-sized tile
+ * files are refused, naming them, before the planet is allocated. pg_planet_load
+ * calls it for a directory that pg_planet_dir_is_tiled. */
+pg_status pg_planet_load_tiles(const char *dir, pg_planet *p, pg_error *err);
+
+/* Read every tile file in dir of the allocated planet p's grid into its faces (for a
+ * process that holds only its own tiles, once all are written). */
+pg_status pg_planet_load_tile_files(const char *dir, pg_planet *p, pg_error *err);
+
+/* Check a tiled planet directory without loading it: index.json parses and every tile
+ * file exists with the size it claims (headers only). The grid goes to *tiles and
+ * *tile_size. BADINPUT names the first file missing or wrong. */
+pg_status pg_planet_tiles_check(const char *dir, int *tiles, int *tile_size, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -100,6 +100,22 @@ pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg
 pg_status pg_plates_classify(int64_t n, pg_cube_projection proj, const uint8_t *plate, int nplates,
                              const double (*omega)[3], uint8_t *kind, pg_error *err);
 
+/* A target hypsometry: n quantiles of land heights (> 0 m) and of ocean heights (<= 0 m),
+ * each ascending, at area fractions i / (n - 1). rank_offset_m (6 n^2 per texel, or NULL)
+ * is added to a texel's height for ranking only: an ice sheet, whose surface stands high
+ * above the rock the plates made (pg_plates_hypsometry.c). Tables belong to the caller. */
+typedef struct pg_plates_hypsometry {
+    int n;
+    const float *land_m, *ocean_m;
+    const float *rank_offset_m;
+} pg_plates_hypsometry;
+
+/* Remap the world's heights onto the target hypsometry, land onto land and ocean onto
+ * ocean, keeping every texel's rank (area-weighted) and so every coast
+ * (pg_plates_hypsometry.c). BADINPUT when a table is too short or not ascending. */
+pg_status pg_plates_match_hypsometry(pg_plates_world *w, const pg_plates_hypsometry *h,
+                                     pg_error *err);
+
 /* Summary figures of a world (area-weighted on the sphere). */
 typedef struct pg_plates_stats {
     double land_fraction;       /* area above 0 m / sphere */

@@ -80,6 +80,7 @@
 #include "planetgen/pg_common.h"
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_image.h"
+#include "planetgen/pg_raster.h"
 #include "planetgen/pg_json.h"
 
 /* the cube sphere and geodesy */

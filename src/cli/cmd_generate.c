@@ -42,8 +42,9 @@ typedef struct gen_inputs {
     gen_world world; /* layout world: the macro world, its guide and type map */
 } gen_inputs;
 
+/* layout world is the default, except that a guide alone asks for layout free */
 static bool is_world(const gen_args *a) {
-    return a->layout && !strcmp(a->layout, "world");
+    return a->layout ? !strcmp(a->layout, "world") : !a->guide;
 }
 
 static int validate(pg_cli *cli, const gen_args *a) {
@@ -76,11 +77,7 @@ static pg_status load_inputs(const gen_args *a, gen_inputs *in, pg_error *err) {
         st = pg_types_map_load(a->types, &in->types, err);
         in->has_types = !st;
     }
-    gen_world_init(&in->world);
-    if (!st && is_world(a)) {
-        st = gen_world_build(a, &in->world, err);
-        in->has_world = !st;
-    }
+    gen_world_init(&in->world); /* built once the exemplar is ready (build_world) */
     return st;
 }
 
@@ -108,8 +105,9 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->synth.jitter = a->jitter;
     p->synth.passes = (int)a->passes;
     /* with a guide and no explicit layout, the sketch gives the arrangement */
-    p->layout = a->layout ? (!strcmp(a->layout, "free") ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH)
-                          : (a->guide ? PG_LAYOUT_FREE : PG_LAYOUT_EARTH);
+    p->layout = is_world(a)                                ? PG_LAYOUT_WORLD
+                : a->layout && !strcmp(a->layout, "earth") ? PG_LAYOUT_EARTH
+                                                           : PG_LAYOUT_FREE;
     p->keep_levels = (int)a->keep_levels;
     p->guide = in->has_guide ? &in->guide : NULL;
     p->guide_alpha = a->guide_weight >= 0 ? a->guide_weight : GEN_GUIDE_WEIGHT;
@@ -214,6 +212,7 @@ static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *
     pg_export_opts_default(&o);
     o.exr = false;
     o.glb = !a->no_glb;
+    o.geotiff = a->geotiff;
     o.preview_width = (int)a->preview_width;
     pg_status st = pg_export_check_opts(&o, p->tiles, p->tile_size, err);
     if (!st) st = pg_export_check_planet(&o, p, err);
@@ -335,6 +334,24 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     }
 }
 
+/* planet.json's "generation" record */
+static void record_generation(const gen_args *a, const pg_planet_synth_params *p,
+                              pg_planet_generation *g) {
+    memset(g, 0, sizeof *g);
+    snprintf(g->layout, sizeof g->layout, "%s",
+             p->layout == PG_LAYOUT_WORLD   ? "world"
+             : p->layout == PG_LAYOUT_EARTH ? "earth"
+                                            : "free");
+    if (p->layout == PG_LAYOUT_WORLD) {
+        g->plates = (int)a->plates;
+        g->land_fraction = a->land_fraction;
+        g->axial_tilt_deg = a->axial_tilt;
+        g->temperature_offset_K = a->temperature_offset;
+    }
+    g->jitter = a->jitter;
+    g->passes = (int)a->passes;
+}
+
 static void on_progress(void *user, double frac) {
     pg_cli_progress(user, frac);
 }
@@ -357,6 +374,18 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_cli_stage_end(cli);
     gen_loud(hushed);
     pg_error err = {0};
+    if (is_world(a)) {
+        /* the macro world takes the exemplar's hypsometry, so it comes after it */
+        pg_cli_stage_begin(cli, "plates and climate");
+        pg_status ws = gen_world_build(a, ex, &in->world, &err);
+        pg_cli_stage_end(cli);
+        if (ws) {
+            pg_synth_exemplar_free(ex);
+            return gen_fail_all(cli, g, &err);
+        }
+        in->has_world = true;
+        set_world(a, in, &p);
+    }
     pg_planet_synth_dist dist;
     if (g->mpi) {
         pg_mpi_synth_dist(g->mpi, (int)a->tiles, &dist);
@@ -388,6 +417,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
         pg_planet_free(&planet);
         return pg_cli_fail(cli, &err);
     }
+    record_generation(a, &p, &planet.generation);
     src_name[sizeof planet.exemplar - 1] = 0;
     memcpy(planet.exemplar, src_name, sizeof planet.exemplar);
     if (g->tiled) {
@@ -395,7 +425,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
          * a distributed run cannot compute the share without gathering the level, and
          * the layout's files must be the same bytes for any rank count. */
         planet.closed_land_share_before_final = NAN;
-        rc = gen_write_tiled(cli, a, g, &planet);
+        rc = gen_write_tiled(cli, a, g, &planet, in->has_world ? &in->world : NULL);
     } else {
         pg_cli_stage_begin(cli, "write planet");
         path_ctx pc = {cli, a->outdir};
@@ -442,10 +472,10 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--tile-size", NULL, PG_OPT_INT, &a.tile_size, 1, 1 << 20, NULL, "S",
          "texels per tile edge, a power of two, multiple of 32 (256)"},
         {"--seed", NULL, PG_OPT_INT, &a.seed, 0, 9007199254740992.0, NULL, "N", "random seed (1)"},
-        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "earth|free|world", "L",
-         "earth: continents where Earth has them; free: a new arrangement; world: a new "
-         "Earth-like planet from plate tectonics and climate, amplified by example (default "
-         "earth, or free with --guide)"},
+        {"--layout", NULL, PG_OPT_CHOICE, &a.layout, 0, 0, "world|earth|free", "L",
+         "world: a new Earth-like planet from plate tectonics and climate, amplified by "
+         "example; earth: Earth re-textured, continents where Earth has them; free: a new "
+         "arrangement without plates or climate (default world, or free with --guide)"},
         {"--plates", NULL, PG_OPT_INT, &a.plates, PG_PLATES_MIN, PG_PLATES_MAX, NULL, "N",
          "layout world: tectonic plates (14)"},
         {"--land-fraction", NULL, PG_OPT_DOUBLE, &a.land_fraction, 0.05, 0.95, NULL, "F",
@@ -482,6 +512,9 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "width of the equirectangular previews (default 4 N, at most 2048)"},
         {"--no-glb", NULL, PG_OPT_FLAG, &a.no_glb, 0, 0, NULL, NULL,
          "do not write the glTF globe planet.glb"},
+        {"--geotiff", NULL, PG_OPT_FLAG, &a.geotiff, 0, 0, NULL, NULL,
+         "also write the planet as georeferenced GeoTIFFs: height.tif, albedo.tif (tiled: "
+         "per tile, with height.vrt and albedo.vrt; docs/export.md)"},
         {"--output-layout", NULL, PG_OPT_CHOICE, &a.output_layout, 0, 0, "planet|tiled", "L",
          "planet: face images, height.exr, previews, planet.glb; tiled: a PNG and an EXR per "
          "tile plus index.json (default planet; tiled under mpirun, docs/mpi.md)"},

@@ -26,6 +26,7 @@ typedef struct gen_args {
     long plates;                                          /* layout world */
     double land_fraction, axial_tilt, temperature_offset; /* layout world */
     bool no_cache, independent, no_glb;
+    bool geotiff; /* also the GIS rasters (pg_export.h) */
 } gen_args;
 
 /* A distributed run (mpirun -np P, P > 1, docs/mpi.md): NULL mpi in one process. */
@@ -64,7 +65,8 @@ typedef struct gen_world {
 void gen_world_init(gen_world *w);
 void gen_world_free(gen_world *w);
 /* Plates and climate from the options (seed, plates, land fraction, tilt, offset). */
-pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err);
+pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_world *w,
+                          pg_error *err);
 /* The plates' own figures: a line of the report, and "world" in res (may be NULL). */
 struct pg_json;
 void gen_world_report(pg_cli *cli, const gen_world *w, struct pg_json *res);
@@ -81,7 +83,8 @@ int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hush
                            pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
                            size_t name_size);
 void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top);
-int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet);
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
+                    const gen_world *world);
 int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g);
 
 #endif

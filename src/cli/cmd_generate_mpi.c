@@ -6,6 +6,8 @@
  * here does what the single-process run needs and no more (g->mpi is NULL). */
 #include "cmd_generate.h"
 
+#include "planetgen/pg_export.h"
+
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_planet_tiles.h"
 
@@ -123,10 +125,29 @@ void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
     free(rss);
 }
 
-/* The tiled layout: this process's tiles (all of them in one process), then, once
- * every rank has renamed its tiles into place, index.json from rank 0 - the mark
- * that the directory is complete. */
-int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet *planet) {
+/* --geotiff with the tiled layout: the GeoTIFF tiles and their VRTs, from rank 0. In a
+ * distributed run rank 0 holds only its own tiles, so it first reads the others'
+ * from the files they committed. */
+static pg_status write_geotiff_tiles(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
+                                     pg_error *err) {
+    if (g->mpi && pg_planet_load_tile_files(a->outdir, planet, err)) return err->status;
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.glb = o.exr = o.previews = false;
+    o.geotiff = o.geotiff_tiled = true;
+    path_ctx pc = {cli, a->outdir};
+    pg_cli_stage_begin(cli, "write GeoTIFF tiles");
+    pg_status st = pg_export_write(planet, &o, gen_path_for, &pc, NULL, err);
+    pg_cli_stage_end(cli);
+    return st;
+}
+
+/* The tiled layout: this process's tiles (all of them in one process) and, from rank 0,
+ * the macro world's files (layout world), then, once every rank has renamed its files
+ * into place, the GeoTIFFs (--geotiff) and index.json from rank 0 - the mark that the
+ * directory is complete. */
+int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
+                    const gen_world *world) {
     const int n = 6 * planet->tiles * planet->tiles;
     path_ctx pc = {cli, a->outdir};
     pg_error err = {0};
@@ -134,6 +155,7 @@ int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet 
     pg_status st =
         pg_planet_save_tiles(planet, pg_mpi_tile_first(n, g->size, g->rank),
                              pg_mpi_tile_first(n, g->size, g->rank + 1), gen_path_for, &pc, &err);
+    if (!st && world && g->rank == 0) st = gen_world_write(cli, a, world, &err);
     pg_cli_stage_end(cli);
     if (st) return gen_fail_all(cli, g, &err);
     if (g->mpi) {
@@ -141,6 +163,8 @@ int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, const pg_planet 
         if (pg_cli_commit(cli, &err)) return gen_fail_all(cli, g, &err);
         pg_mpi_barrier(g->mpi); /* every tile is in place */
     }
+    if (g->rank == 0 && a->geotiff && write_geotiff_tiles(cli, a, g, planet, &err))
+        return gen_fail_all(cli, g, &err);
     if (g->rank == 0 && pg_planet_save_index(planet, gen_path_for, &pc, &err))
         return gen_fail_all(cli, g, &err);
     return 0;

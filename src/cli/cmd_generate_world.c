@@ -10,12 +10,14 @@
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_json.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define GEN_WORLD_N 64           /* macro texels per face edge (about 140 km) */
 #define GEN_WORLD_MAP_WIDTH 1024 /* the guide and type map, equirectangular */
 #define GEN_WORLD_PREVIEW_WIDTH 1024
+#define GEN_WORLD_QUANTILES 1001 /* the exemplar's hypsometry, per mille */
 
 void gen_world_init(gen_world *w) {
     memset(w, 0, sizeof *w);
@@ -30,7 +32,50 @@ void gen_world_free(gen_world *w) {
     pg_types_map_free(&w->types);
 }
 
-pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
+/* An ice sheet's rank offset: land whose first-guess climate is an ice climate stands
+ * higher the colder it is, up to GEN_WORLD_ICE_SHEET_M at 20 K below the ice line (Earth's
+ * sheets: 2-3 km over their interiors, thinning to the margins). */
+#define GEN_WORLD_ICE_SHEET_M 3000.0
+static pg_status ice_sheets(const gen_args *a, const pg_plates_world *pw, float *off,
+                            pg_error *err) {
+    pg_climate_params cp;
+    pg_climate_params_default(&cp);
+    cp.axial_tilt_deg = a->axial_tilt;
+    cp.temperature_offset_K = a->temperature_offset;
+    pg_climate cl;
+    pg_climate_init(&cl);
+    pg_status st = pg_climate_compute(&cp, pw->proj, pw->n, pw->elevation_m, &cl, err);
+    for (int64_t t = 0; !st && t < 6 * pw->n * pw->n; t++) {
+        double below = PG_CLIMATE_ICE_C - cl.temperature_c[t];
+        off[t] = pw->elevation_m[t] > 0 && below > 0
+                     ? (float)(GEN_WORLD_ICE_SHEET_M * fmin(1.0, below / 20.0))
+                     : 0.0f;
+    }
+    pg_climate_free(&cl);
+    return st;
+}
+
+/* The plates' heights take the exemplar's hypsometry (pg_plates_match_hypsometry), ice
+ * sheets ranked by their surface. */
+static pg_status match_exemplar(const gen_args *a, const pg_synth_exemplar *ex, pg_plates_world *pw,
+                                pg_error *err) {
+    float *q = malloc(2 * GEN_WORLD_QUANTILES * sizeof *q);
+    float *off = malloc((size_t)6 * pw->n * pw->n * sizeof *off);
+    pg_status st =
+        q && off ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    if (!st)
+        st = pg_planet_world_exemplar_hypsometry(ex, GEN_WORLD_N, GEN_WORLD_QUANTILES, q,
+                                                 q + GEN_WORLD_QUANTILES, err);
+    if (!st) st = ice_sheets(a, pw, off, err);
+    pg_plates_hypsometry h = {GEN_WORLD_QUANTILES, q, q + GEN_WORLD_QUANTILES, off};
+    if (!st) st = pg_plates_match_hypsometry(pw, &h, err);
+    free(q);
+    free(off);
+    return st;
+}
+
+pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_world *w,
+                          pg_error *err) {
     pg_plates_params pp;
     pg_plates_params_default(&pp);
     pp.seed = (uint64_t)a->seed;
@@ -38,6 +83,7 @@ pg_status gen_world_build(const gen_args *a, gen_world *w, pg_error *err) {
     pp.plates = (int)a->plates;
     pp.land_fraction = a->land_fraction;
     pg_status st = pg_plates_generate(&pp, &w->plates, err);
+    if (!st) st = match_exemplar(a, ex, &w->plates, err);
     if (!st) st = pg_plates_stats_compute(&w->plates, &w->stats, err);
     pg_climate_params cp;
     pg_climate_params_default(&cp);

@@ -2,35 +2,53 @@
  *
  *   planetgen pits --method fill|breach|hybrid [--epsilon] [--max-depth D]
  *                  [--max-length L] [--sea-level H] [--lakes MASK] [--nodata V]
- *                  [--closed-edges] IN -o OUT
+ *                  [--closed-edges] [--co KEY=VALUE]... [--cog] IN -o OUT
  *   planetgen pits --stats FILE|PLANET_DIR [--json F]
  *
  * It lets GIS users run the pit-removal module (pg_pits.h) on its own. Inputs are
- * any image OpenImageIO reads (GeoTIFF, EXR, 16-bit PNG, ...), taken as raw heights;
- * outputs are float EXR or float TIFF (strict descent survives; a TIFF keeps the
- * input's GeoTIFF georeferencing) or 16-bit PNG (for integer inputs:
- * the result is rounded to the input's steps, which keeps every path non-ascending
- * because rounding is monotone). Map borders are outlets unless --closed-edges. All
- * input is validated before any output is created. */
+ * rasters taken as raw heights: a georeferenced one, or any format only GDAL reads
+ * (.hgt, .asc, .vrt, ...), through GDAL (pg_raster.h) with its CRS, geotransform and
+ * NoData; the images OpenImageIO serves (PNG, JPEG, EXR, plain TIFF) through pg_image
+ * as before. Cell areas come from the georeferencing (pg_geo_raster_row_areas) unless
+ * --cell-size overrides. Outputs are float EXR, float GeoTIFF through GDAL (strict
+ * descent survives; the input's CRS, geotransform and NoData are kept; --co and --cog
+ * pass creation options) or 16-bit PNG (for unsigned integer inputs: the result is
+ * rounded to the input's steps, which keeps every path non-ascending because rounding
+ * is monotone). Map borders are outlets unless --closed-edges. All input is validated
+ * before any output is created (docs/pits.md, "CLI"). */
 #include "pg_commands.h"
 
 #include "pg_planet_meta.h"
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_json.h"
 #include "planetgen/pg_pits.h"
-#include "pg_pits_tiff.h"
+#include "planetgen/pg_geo.h"
 #include "planetgen/pg_planet.h"
+#include "planetgen/pg_raster.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 typedef struct pits_args {
     const char *method, *out, *lakes, *stats;
-    bool epsilon, closed_edges, global, no_stats;
+    bool epsilon, closed_edges, global, no_stats, cog;
     double max_depth, max_length, sea_level, nodata, cell_size, max_memory_gb;
+    pg_opt_list co; /* GDAL creation options for a .tif output */
 } pits_args;
+
+/* A DEM as read: its cells and where they lie on the Earth (a zeroed geo: nowhere). */
+typedef struct dem {
+    pg_image img;
+    pg_georef geo;
+} dem;
+
+static void dem_free(dem *d) {
+    pg_image_free(&d->img);
+    pg_georef_free(&d->geo);
+}
 
 /* Peak memory, measured (peak RSS) on a 4096^2 float EXR: 46 B per cell with the
  * depression counts (the image, the count's fill copy and labels, the flood queue),
@@ -49,7 +67,9 @@ typedef struct pits_args {
 static int check_dem_memory(pg_cli *cli, const pits_args *a, const char *path, bool stats_only) {
     int w = 0, h = 0, c = 0;
     pg_error err = {0};
-    if (pg_image_probe(path, &w, &h, &c, &err) != PG_OK) return 0;
+    if (pg_image_probe(path, &w, &h, &c, &err) != PG_OK &&
+        pg_raster_probe(path, &w, &h, &c, NULL, NULL, &err) != PG_OK)
+        return 0;
     double cells = (double)w * h;
     double per = stats_only || !a->no_stats ? PITS_CELL_BYTES : PITS_CELL_BYTES_NO_STATS;
     if (a->lakes) per += PITS_LAKES_CELL_BYTES;
@@ -68,30 +88,64 @@ static int check_planet_memory(pg_cli *cli, const pits_args *a, const char *dir)
         cli, dir, PITS_PLANET_BASE_BYTES + 6 * n * n * PITS_PLANET_TEXEL_BYTES, a->max_memory_gb);
 }
 
-/* Area of a row of a global equirectangular grid (w = 2h), for --global. */
-typedef struct equirect_area {
-    int w, h;
-} equirect_area;
+/* Cell areas that vary by row (geographic rasters): ctx holds one area per row. */
+typedef struct row_areas {
+    int w;
+    double *rows;
+} row_areas;
 
-static double equirect_cell_area(void *ctx, uint32_t id) {
-    const equirect_area *a = ctx;
-    const double R = 6371008.8, pi = 3.14159265358979323846;
-    int y = (int)(id / (uint32_t)a->w);
-    double lat0 = pi / 2 - pi * y / a->h, lat1 = pi / 2 - pi * (y + 1) / a->h;
-    return R * R * (2 * pi / a->w) * (sin(lat0) - sin(lat1));
+static double row_area(void *ctx, uint32_t id) {
+    const row_areas *r = ctx;
+    return r->rows[id / (uint32_t)r->w];
 }
 
-static pg_status read_dem(const char *path, const char *what, pg_image *img, pg_error *err) {
+/* Drivers whose files OpenImageIO reads as before when they carry no georeferencing. */
+static bool image_driver(const char *drv) {
+    const char *const names[] = {"PNG", "JPEG", "GTiff", "EXR", "BMP", "GIF", "WEBP"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++)
+        if (!strcmp(drv, names[i])) return true;
+    return false;
+}
+
+/* Does the name end in an extension of the images pg_image reads? Their refusals
+ * (damaged PNG chunks, a JPEG's bad segment) say more than GDAL's. */
+static bool image_extension(const char *path) {
+    const char *dot = strrchr(path, '.');
+    const char *const ext[] = {".png", ".jpg", ".jpeg", ".exr", ".tif", ".tiff", ".bmp", ".webp"};
+    for (size_t i = 0; dot && i < sizeof ext / sizeof *ext; i++)
+        if (!strcasecmp(dot, ext[i])) return true;
+    return false;
+}
+
+/* Read a raster: through GDAL when it is georeferenced or only GDAL reads it, else
+ * through pg_image (OpenImageIO, OpenEXR) as a plain grid. */
+static pg_status read_raster(const char *path, const char *what, dem *d, pg_error *err) {
+    memset(d, 0, sizeof *d);
     struct stat sb;
     if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "%s %s: a directory (planet directories are read by --stats only)",
                             what, path);
-    pg_status s = pg_image_read(path, 0, img, err);
+    int w, h, b;
+    char drv[32];
+    pg_georef g;
+    pg_error probe_err = {0};
+    bool gdal = pg_raster_probe(path, &w, &h, &b, drv, &g, &probe_err) == PG_OK &&
+                (pg_georef_present(&g) || !image_driver(drv));
+    if (probe_err.status == PG_OK) pg_georef_free(&g);
+    if (probe_err.status != PG_OK && !image_extension(path))
+        return pg_error_set(err, probe_err.status, "%s", probe_err.msg);
+    pg_status s = gdal ? pg_raster_read(path, 0, &d->img, &d->geo, err)
+                       : pg_image_read(path, 0, &d->img, err);
+    return s;
+}
+
+static pg_status read_dem(const char *path, const char *what, dem *d, pg_error *err) {
+    pg_status s = read_raster(path, what, d, err);
     if (s) return s;
-    if (img->channels != 1) {
-        int channels = img->channels; /* pg_image_free clears the struct */
-        pg_image_free(img);
+    if (d->img.channels != 1) {
+        int channels = d->img.channels; /* dem_free clears the struct */
+        dem_free(d);
         return pg_error_set(err, PG_ERR_BADINPUT, "%s %s: %d channels, expected 1 (a height map)",
                             what, path, channels);
     }
@@ -99,9 +153,11 @@ static pg_status read_dem(const char *path, const char *what, pg_image *img, pg_
 }
 
 static pg_status read_lakes(const char *path, const pg_image *dem, uint8_t **mask, pg_error *err) {
-    pg_image m;
-    pg_status s = pg_image_read(path, 0, &m, err);
+    struct dem md;
+    pg_status s = read_raster(path, "--lakes", &md, err);
     if (s) return s;
+    pg_image m = md.img;
+    pg_georef_free(&md.geo);
     if (m.width != dem->width || m.height != dem->height) {
         s = pg_error_set(err, PG_ERR_BADINPUT, "--lakes %s: %dx%d, but the DEM is %dx%d", path,
                          m.width, m.height, dem->width, dem->height);
@@ -115,7 +171,14 @@ static pg_status read_lakes(const char *path, const pg_image *dem, uint8_t **mas
     return s;
 }
 
-static void set_opts(const pits_args *a, const uint8_t *lakes, pg_pits_opts *o) {
+/* NoData: --nodata, else the file's NoData tag, else none. */
+static void effective_nodata(const pits_args *a, const pg_georef *geo, bool *has, double *v) {
+    *has = !isnan(a->nodata) || geo->has_nodata;
+    *v = !isnan(a->nodata) ? a->nodata : geo->has_nodata ? geo->nodata : NAN;
+}
+
+static void set_opts(const pits_args *a, const pg_georef *geo, const uint8_t *lakes,
+                     pg_pits_opts *o) {
     pg_pits_opts_default(o);
     pg_pits_method_parse(a->method, &o->method);
     o->epsilon = a->epsilon;
@@ -125,21 +188,67 @@ static void set_opts(const pits_args *a, const uint8_t *lakes, pg_pits_opts *o) 
     o->sea_level = a->sea_level;
     o->lakes = lakes;
     o->open_edges = !a->closed_edges;
-    o->has_nodata = !isnan(a->nodata);
-    o->nodata = (float)a->nodata;
+    double v;
+    effective_nodata(a, geo, &o->has_nodata, &v);
+    o->nodata = (float)v;
 }
 
-static void area_of(const pits_args *a, const pg_image *img, equirect_area *ea,
-                    pg_pits_area *area) {
+/* The cell areas: --cell-size; else from the georeferencing (geographic: true areas on
+ * the CRS's ellipsoid; projected: metres); else 1 m^2. --global requires a whole-globe
+ * geographic grid, or, without georeferencing, a 2:1 grid taken as one on the sphere. */
+static pg_status area_of(pg_cli *cli, const pits_args *a, const char *in, const dem *d,
+                         row_areas *ra, pg_pits_area *area, pg_error *err) {
     memset(area, 0, sizeof *area);
-    ea->w = img->width;
-    ea->h = img->height;
-    if (a->global) {
-        area->fn = equirect_cell_area;
-        area->ctx = ea;
-    } else {
+    ra->rows = NULL;
+    const int w = d->img.width, h = d->img.height;
+    const pg_georef *g = &d->geo;
+    pg_georef sphere = {0};
+    if (!isnan(a->cell_size)) {
         area->constant = a->cell_size * a->cell_size;
+        pg_cli_verbose(cli, "cells: %g m a side (--cell-size)\n", a->cell_size);
+        return PG_OK;
     }
+    if (a->global && pg_georef_present(g) && !pg_geo_raster_is_global(g, w, h))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: --global needs a whole-globe geographic grid (longitude 360 "
+                            "degrees, latitude 90 to -90); this raster's georeferencing is not one",
+                            in);
+    if (a->global && !pg_georef_present(g)) {
+        if (w != 2 * h)
+            return pg_error_set(err, PG_ERR_BADINPUT,
+                                "%s: --global needs a whole-globe grid, but this raster has no "
+                                "geotransform and is %dx%d, not 2:1",
+                                in, w, h);
+        /* the convention of an unreferenced global map: equirectangular on the sphere */
+        const double t[6] = {-180, 360.0 / w, 0, 90, 0, -180.0 / h};
+        sphere.has_transform = true;
+        memcpy(sphere.transform, t, sizeof t);
+        sphere.kind = PG_CRS_GEOGRAPHIC;
+        sphere.a = PG_ELLIPSOID_SPHERE_RADIUS_M;
+        sphere.unit = 1;
+        g = &sphere;
+    } else if (!pg_geo_raster_has_cells(g)) {
+        area->constant = 1;
+        pg_cli_verbose(cli, "cells: 1 m a side (no georeferencing; --cell-size sets it)\n");
+        return PG_OK;
+    }
+    if (!(ra->rows = malloc((size_t)h * sizeof *ra->rows)))
+        return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", in);
+    pg_status s = pg_geo_raster_row_areas(g, w, h, in, ra->rows, err);
+    if (s) {
+        free(ra->rows);
+        ra->rows = NULL;
+        return s;
+    }
+    ra->w = w;
+    area->fn = row_area;
+    area->ctx = ra;
+    if (g->kind == PG_CRS_GEOGRAPHIC)
+        pg_cli_verbose(cli, "cells: true areas on the ellipsoid a = %.3f m, f = %.10g (%s)\n", g->a,
+                       g->f, g == &sphere ? "--global" : g->crs_name);
+    else
+        pg_cli_verbose(cli, "cells: %.6g m^2 (%s)\n", ra->rows[0], g->crs_name);
+    return PG_OK;
 }
 
 /* Print st; add it to the JSON object `into` (NULL without --json). */
@@ -170,18 +279,27 @@ static char out_kind(const char *out) {
     return 0;
 }
 
-static pg_status write_dem(pg_cli *cli, const char *out, const char *in, pg_image *img,
-                           pg_error *err) {
-    const char *slash = strrchr(out, '/');
+static pg_raster_write_opts write_opts(const pits_args *a) {
+    pg_raster_write_opts o = {a->co.v, a->co.n, a->cog};
+    return o;
+}
+
+/* The GeoTIFF carries the input's CRS and geotransform and the NoData in effect. */
+static pg_status write_dem(pg_cli *cli, const pits_args *a, dem *d, pg_error *err) {
+    const char *out = a->out, *slash = strrchr(out, '/');
     char dir[4096];
     snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
     if (!dir[0]) snprintf(dir, sizeof dir, "/");
     const char *name = slash ? slash + 1 : out;
     const char *tmp = pg_cli_output_path(cli, dir, name);
+    pg_image *img = &d->img;
     if (!tmp) return pg_error_set(err, PG_ERR_NOMEM, "-o %s: out of memory", out);
     if (out_kind(name) == 'e') return pg_image_write_exr(tmp, img, NULL, err);
-    if (out_kind(name) == 't')
-        return pg_pits_write_tiff(tmp, img->data, img->width, img->height, in, err);
+    if (out_kind(name) == 't') {
+        effective_nodata(a, &d->geo, &d->geo.has_nodata, &d->geo.nodata);
+        pg_raster_write_opts wo = write_opts(a);
+        return pg_raster_write_geotiff(tmp, img, PG_RASTER_FLOAT32, &d->geo, &wo, err);
+    }
     /* PNG: back to the input's integer steps; pg_image_write_png rounds */
     size_t n = (size_t)img->width * img->height;
     for (size_t i = 0; i < n; i++)
@@ -189,15 +307,30 @@ static pg_status write_dem(pg_cli *cli, const char *out, const char *in, pg_imag
     return pg_image_write_png(tmp, img, 16, err);
 }
 
-static pg_status check_output(const pits_args *a, const pg_image *img, pg_error *err) {
-    int png = out_kind(a->out) == 'p';
+/* Output options that need no input: the format, and --co/--cog against GDAL. */
+static pg_status check_output_opts(const pits_args *a, pg_error *err) {
     if (!out_kind(a->out))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "-o %s: write .exr or .tif (float) or .png (16-bit)", a->out);
+    if ((a->co.n || a->cog) && out_kind(a->out) != 't')
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: only for a GeoTIFF output (-o F.tif)",
+                            a->cog ? "--cog" : "--co");
+    pg_raster_write_opts wo = write_opts(a);
+    return pg_raster_check_options(&wo, "--co", err);
+}
+
+static pg_status check_output(const pits_args *a, const pg_image *img, pg_error *err) {
+    int png = out_kind(a->out) == 'p';
     if (png && (img->unit_scale == 1.0f || img->src_type == PG_SAMPLE_FLOAT))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "-o %s: a float DEM cannot be written as PNG without losing "
                             "heights; write .exr",
+                            a->out);
+    if (png && (img->src_type == PG_SAMPLE_INT8 || img->src_type == PG_SAMPLE_INT16 ||
+                img->src_type == PG_SAMPLE_INT32))
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "-o %s: a signed DEM cannot be written as 16-bit PNG without losing "
+                            "heights below 0; write .tif or .exr",
                             a->out);
     if (png && img->unit_scale < 1.0f / 65535.5f)
         return pg_error_set(err, PG_ERR_BADINPUT, "-o %s: input has more than 16 bits; write .exr",
@@ -235,7 +368,8 @@ static int run_planet_stats(pg_cli *cli, const pits_args *a) {
     if (isnan(pa.sea_level)) pa.sea_level = p.sea_level;
     pa.closed_edges = true; /* a sphere has no edges */
     pg_pits_opts o;
-    set_opts(&pa, NULL, &o);
+    const pg_georef nowhere = {0};
+    set_opts(&pa, &nowhere, NULL, &o);
     pg_cli_stage_begin(cli, "count depressions on the planet");
     pg_pits_topo t;
     pg_pits_stats st;
@@ -265,29 +399,29 @@ static int run_stats(pg_cli *cli, const pits_args *a) {
     int rc = check_dem_memory(cli, a, a->stats, true);
     if (rc) return rc;
     pg_error err = {0};
-    pg_image img;
+    dem d;
     uint8_t *lakes = NULL;
     /* the inputs are checked inside the stage: a bad one ends it without a progress
      * line, so the error stays the only line */
     pg_cli_stage_begin(cli, "read DEM");
-    if (read_dem(a->stats, "--stats", &img, &err)) return pg_cli_fail(cli, &err);
-    if (a->lakes && read_lakes(a->lakes, &img, &lakes, &err)) {
-        pg_image_free(&img);
-        return pg_cli_fail(cli, &err);
-    }
-    pg_cli_stage_end(cli);
+    if (read_dem(a->stats, "--stats", &d, &err)) return pg_cli_fail(cli, &err);
     pg_pits_opts o;
-    set_opts(a, lakes, &o);
     pg_pits_topo t;
     pg_pits_stats st;
-    equirect_area ea;
+    row_areas ra = {0};
     pg_pits_area area;
-    area_of(a, &img, &ea, &area);
-    pg_cli_stage_begin(cli, "count depressions");
-    pg_status s = pg_pits_topo_grid(&t, (uint32_t)img.width, (uint32_t)img.height, &err);
-    if (!s) s = pg_pits_stats_compute(&t, img.data, &o, &area, &st, &err);
-    pg_image_free(&img);
+    pg_status s = a->lakes ? read_lakes(a->lakes, &d.img, &lakes, &err) : PG_OK;
+    if (!s) s = area_of(cli, a, a->stats, &d, &ra, &area, &err);
+    if (!s) {
+        pg_cli_stage_end(cli);
+        set_opts(a, &d.geo, lakes, &o);
+        pg_cli_stage_begin(cli, "count depressions");
+        s = pg_pits_topo_grid(&t, (uint32_t)d.img.width, (uint32_t)d.img.height, &err);
+    }
+    if (!s) s = pg_pits_stats_compute(&t, d.img.data, &o, &area, &st, &err);
+    dem_free(&d);
     free(lakes);
+    free(ra.rows);
     if (s) return pg_cli_fail(cli, &err);
     pg_cli_stage_end(cli);
     pg_json *r = pg_cli_report(cli);
@@ -296,29 +430,31 @@ static int run_stats(pg_cli *cli, const pits_args *a) {
 }
 
 static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
+    pg_error err = {0};
+    if (check_output_opts(a, &err)) return pg_cli_fail(cli, &err);
     int rc = is_dir(in) ? 0 : check_dem_memory(cli, a, in, false);
     if (rc) return rc;
-    pg_error err = {0};
-    pg_image img;
+    dem d;
     uint8_t *lakes = NULL;
     /* the inputs are checked inside the stage: a bad one ends it without a progress
      * line, so the error stays the only line */
     pg_cli_stage_begin(cli, "read DEM");
-    if (read_dem(in, "input", &img, &err)) return pg_cli_fail(cli, &err);
-    pg_status s = check_output(a, &img, &err);
-    if (!s && a->lakes) s = read_lakes(a->lakes, &img, &lakes, &err);
+    if (read_dem(in, "input", &d, &err)) return pg_cli_fail(cli, &err);
+    pg_image *img = &d.img;
+    row_areas ra = {0};
+    pg_pits_area area;
+    pg_status s = check_output(a, img, &err);
+    if (!s && a->lakes) s = read_lakes(a->lakes, img, &lakes, &err);
+    if (!s) s = area_of(cli, a, in, &d, &ra, &area, &err);
     if (!s) pg_cli_stage_end(cli);
     pg_pits_opts o;
-    set_opts(a, lakes, &o);
+    set_opts(a, &d.geo, lakes, &o);
     pg_pits_topo t;
-    if (!s) s = pg_pits_topo_grid(&t, (uint32_t)img.width, (uint32_t)img.height, &err);
-    equirect_area ea;
-    pg_pits_area area;
-    area_of(a, &img, &ea, &area);
+    if (!s) s = pg_pits_topo_grid(&t, (uint32_t)img->width, (uint32_t)img->height, &err);
     pg_pits_stats before, after;
     if (!s && !a->no_stats) {
         pg_cli_stage_begin(cli, "count depressions before");
-        s = pg_pits_stats_compute(&t, img.data, &o, &area, &before, &err);
+        s = pg_pits_stats_compute(&t, img->data, &o, &area, &before, &err);
         pg_cli_stage_end(cli);
     }
     pg_pits_result res;
@@ -326,21 +462,24 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
         pg_cli_verbose(cli, "method: %s%s\n", pg_pits_method_citation(o.method),
                        o.epsilon ? " (epsilon: strictly descending, no flats)" : "");
         pg_cli_stage_begin(cli, "remove pits");
-        s = pg_pits_remove(&t, img.data, &o, &res, &err);
+        s = pg_pits_remove(&t, img->data, &o, &res, &err);
         pg_cli_stage_end(cli);
     }
     if (!s && !a->no_stats) {
         pg_cli_stage_begin(cli, "count depressions after");
-        s = pg_pits_stats_compute(&t, img.data, &o, &area, &after, &err);
+        s = pg_pits_stats_compute(&t, img->data, &o, &area, &after, &err);
         pg_cli_stage_end(cli);
     }
     if (!s) {
         pg_cli_stage_begin(cli, "write DEM");
-        s = write_dem(cli, a->out, in, &img, &err);
+        s = write_dem(cli, a, &d, &err);
         pg_cli_stage_end(cli);
     }
-    pg_image_free(&img);
+    char crs[128];
+    snprintf(crs, sizeof crs, "%s", d.geo.crs_wkt ? d.geo.crs_name : "");
+    dem_free(&d);
     free(lakes);
+    free(ra.rows);
     if (s) return pg_cli_fail(cli, &err);
     pg_cli_info(cli, "%s: raised %llu cells (max %.6g), lowered %llu (max %.6g), %llu sinks\n",
                 pg_pits_method_name(o.method), (unsigned long long)res.raised, res.max_raise,
@@ -354,6 +493,8 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
         pg_json_set_string(p, "method", a->method);
         pg_json_set_bool(p, "epsilon", a->epsilon);
         pg_json_set_string(p, "citation", pg_pits_method_citation(o.method));
+        pg_json_set_string(p, "crs", crs);
+        if (o.has_nodata && !isnan(o.nodata)) pg_json_set_number(p, "nodata", o.nodata);
         rj = pg_json_set_object(r, "results");
         pg_json_set_number(rj, "raised_cells", (double)res.raised);
         pg_json_set_number(rj, "lowered_cells", (double)res.lowered);
@@ -369,8 +510,12 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
 }
 
 int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
-    pits_args a = {"breach", NULL,     NULL,     NULL, false, false, false,
-                   false,    INFINITY, INFINITY, NAN,  NAN,   1.0,   0};
+    pits_args a = {.method = "breach",
+                   .max_depth = INFINITY,
+                   .max_length = INFINITY,
+                   .sea_level = NAN,
+                   .nodata = NAN,
+                   .cell_size = NAN}; /* NAN: not given */
     const pg_opt opts[] = {
         {"--method", NULL, PG_OPT_CHOICE, &a.method, 0, 0, "fill|breach|hybrid", "M",
          "fill (Barnes 2014), breach (Soille 2004; default) or hybrid (Lindsay 2016)"},
@@ -385,19 +530,26 @@ int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
         {"--lakes", NULL, PG_OPT_STRING, &a.lakes, 0, 0, NULL, "MASK",
          "image of the DEM's size; nonzero cells are lake sinks"},
         {"--nodata", NULL, PG_OPT_DOUBLE, &a.nodata, -1e38, 1e38, NULL, "V",
-         "cells equal to V (or NaN) are no-data: outlets, left unchanged"},
+         "cells equal to V (or NaN) are no-data: outlets, left unchanged (default: the "
+         "file's NoData)"},
         {"--closed-edges", NULL, PG_OPT_FLAG, &a.closed_edges, 0, 0, NULL, NULL,
          "the map border is not an outlet (default: it is)"},
         {"--cell-size", NULL, PG_OPT_DOUBLE, &a.cell_size, 1e-9, 1e9, NULL, "M",
-         "cell edge in metres, for areas and volumes (default 1)"},
+         "cell edge in metres, for areas and volumes (default: from the georeferencing, "
+         "else 1)"},
         {"--global", NULL, PG_OPT_FLAG, &a.global, 0, 0, NULL, NULL,
-         "the DEM is a global equirectangular grid: true cell areas on the sphere"},
+         "the DEM is a whole-globe latitude/longitude grid (a 2:1 grid without "
+         "georeferencing: on the sphere)"},
         {"--no-stats", NULL, PG_OPT_FLAG, &a.no_stats, 0, 0, NULL, NULL,
          "skip counting depressions before and after"},
         {"--stats", NULL, PG_OPT_STRING, &a.stats, 0, 0, NULL, "FILE",
          "only count the depressions of FILE, or of a planet directory (globally)"},
         {"--output", "-o", PG_OPT_STRING, &a.out, 0, 0, NULL, "OUT",
-         "output DEM (.exr, .tif: float; .png: 16-bit)"},
+         "output DEM (.exr, .tif: float, GeoTIFF; .png: 16-bit)"},
+        {"--co", NULL, PG_OPT_LIST, &a.co, 0, 0, NULL, "KEY=VALUE",
+         "GDAL creation option of the GeoTIFF output, repeatable (e.g. TILED=YES)"},
+        {"--cog", NULL, PG_OPT_FLAG, &a.cog, 0, 0, NULL, NULL,
+         "write a Cloud-Optimized GeoTIFF (GDAL's COG driver)"},
         PG_CLI_MAX_MEMORY_OPT(a.max_memory_gb),
         PG_OPT_END};
     const char *pos[2];
@@ -414,6 +566,8 @@ int pg_cmd_pits(pg_cli *cli, int argc, char **argv) {
                           opts, stdout);
         return 0;
     }
+    if (a.global && !isnan(a.cell_size))
+        return pg_cli_usage_error(cli, "--cell-size and --global: give one");
     if (a.stats) {
         if (npos) return pg_cli_usage_error(cli, "--stats takes no other input");
         return run_stats(cli, &a);

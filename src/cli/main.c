@@ -22,6 +22,7 @@ static const pg_command pg_commands[] = {
     {"inspect", pg_cmd_inspect, "realism report of a planet: LPIPS-style poles, seams, pits"},
     {"pits", pg_cmd_pits, "remove pits from a DEM (fill, breach, hybrid) or count them"},
     {"synth", pg_cmd_synth, "synthesize a flat N x N terrain by example (Lefebvre-Hoppe)"},
+    {"view", pg_cmd_view, "show a planet as a globe in a browser: write DIR/viewer/, serve it"},
     {NULL, NULL, NULL}};
 
 static void print_usage(FILE *f) {

@@ -28,14 +28,23 @@ typedef enum pg_opt_kind {
     PG_OPT_STRING, /* const char * */
     PG_OPT_INT,    /* long, range-checked [min, max] */
     PG_OPT_DOUBLE, /* double, finite, range-checked [min, max] */
-    PG_OPT_CHOICE  /* const char *, one of choices "a|b|c" */
+    PG_OPT_CHOICE, /* const char *, one of choices "a|b|c" */
+    PG_OPT_LIST    /* pg_opt_list: repeatable, each value appended (at most PG_OPT_LIST_MAX) */
 } pg_opt_kind;
+
+#define PG_OPT_LIST_MAX 32
+
+/* The values of a repeatable option, in the order given. */
+typedef struct pg_opt_list {
+    const char *v[PG_OPT_LIST_MAX];
+    int n;
+} pg_opt_list;
 
 typedef struct pg_opt {
     const char *name;  /* long form, e.g. "--seed" */
     const char *alias; /* short form, e.g. "-o", or NULL */
     pg_opt_kind kind;
-    void *dest; /* bool *, const char **, long *, double * */
+    void *dest; /* bool *, const char **, long *, double *, pg_opt_list * */
     double min, max;
     const char *choices;
     const char *metavar;

@@ -35,6 +35,15 @@ static int store_value(pg_cli *cli, const pg_opt *o, const char *v) {
         if (!*v) return pg_cli_usage_error(cli, "%s: empty value", o->name);
         *(const char **)o->dest = v;
         return 0;
+    case PG_OPT_LIST: {
+        pg_opt_list *l = o->dest;
+        if (!*v) return pg_cli_usage_error(cli, "%s: empty value", o->name);
+        if (l->n >= PG_OPT_LIST_MAX)
+            return pg_cli_usage_error(cli, "%s: given more than %d times", o->name,
+                                      PG_OPT_LIST_MAX);
+        l->v[l->n++] = v;
+        return 0;
+    }
     case PG_OPT_CHOICE:
         if (!choice_ok(o->choices, v))
             return pg_cli_usage_error(cli, "%s: unknown value '%s' (choose %s)", o->name, v,

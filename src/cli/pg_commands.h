@@ -13,5 +13,6 @@ int pg_cmd_grid(pg_cli *cli, int argc, char **argv);
 int pg_cmd_inspect(pg_cli *cli, int argc, char **argv);
 int pg_cmd_pits(pg_cli *cli, int argc, char **argv);
 int pg_cmd_export(pg_cli *cli, int argc, char **argv);
+int pg_cmd_view(pg_cli *cli, int argc, char **argv);
 
 #endif

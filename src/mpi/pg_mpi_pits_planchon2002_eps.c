@@ -90,7 +90,7 @@ static int eps_round(const pg_mpi_pits_grid *d, eps_ctx *e, const float *floor_)
         int nn = pg_pits_neighbours(d->g.t, id, nb);
         for (int j = 0; j < nn; j++) /* fixed: sinks, the ring, closed cells */
             if (!eps_settable(e, nb[j]))
-                w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
+                w = pits_minf(w, pits_maxf(floor_[id], pits_up(eps_value(d, nb[j]))));
         d->h[id] = w;
         if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
     }
@@ -114,7 +114,7 @@ static int eps_update(const pg_mpi_pits_grid *d, eps_ctx *e, const float *floor_
         float w = d->h[id];
         for (int j = 0; j < nn; j++)
             if (!pg_mpi_owned(&d->g, nb[j]) && d->h[nb[j]] < before[nb[j]])
-                w = fminf(w, fmaxf(floor_[id], pits_up(eps_value(d, nb[j]))));
+                w = pits_minf(w, pits_maxf(floor_[id], pits_up(eps_value(d, nb[j]))));
         if (w < d->h[id]) {
             d->h[id] = w;
             pits_heap_push(&q, pits_key(w, id));

@@ -23,7 +23,8 @@
  * popped). Plain fill is the minimal such surface: a cell is raised only to the
  * lowest spill height through which its region connects to a sink (Barnes et al.,
  * Theorem 1), which the exact-fill test checks against a slow iterative reference.
- * Ties pop in (height, id) order, so the pop order is deterministic. */
+ * The result is unique, so the order in which equal heights pop does not matter:
+ * the front is a monotone radix heap on the heights alone (pg_pits_internal.h). */
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -36,9 +37,16 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
+    /* the sinks, then the front, in a radix heap: the minimal fill is unique, so the
+     * order of equal heights does not matter (pg_pits_internal.h) */
+    pits_rheap r = {0};
+    for (size_t i = 0; i < q.n; i++)
+        pits_rheap_push(&r, (uint32_t)(q.a[i] >> 32), pits_key_id(q.a[i]));
+    pits_heap_free(&q); /* the sinks now live in r */
     uint32_t nb[8];
-    while (q.n || !pits_fifo_empty(&pit)) {
-        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(&q));
+    while ((r.size || !pits_fifo_empty(&pit)) && !r.oom && !pit.oom) {
+        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_rheap_pop(&r));
+        if (r.oom) break;
         float hc = st[c] == PITS_CLOSED ? h[c] : -INFINITY; /* sinks: outlets */
         int k = pg_pits_neighbours(t, c, nb);
         for (int j = 0; j < k; j++) {
@@ -49,11 +57,12 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
                 h[n] = hc;
                 pits_fifo_push(&pit, n);
             } else {
-                pits_heap_push(&q, pits_key(h[n], n));
+                pits_rheap_push(&r, pits_ord(h[n]), n);
             }
         }
-        if (q.oom || pit.oom) break;
     }
+    q.oom |= r.oom;
+    pits_rheap_free(&r);
     int oom = q.oom || pit.oom;
     pits_heap_free(&q);
     pits_fifo_free(&pit);

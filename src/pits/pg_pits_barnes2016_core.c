@@ -64,7 +64,7 @@ void pits_b16_edges_compact(pits_b16_edges *v) {
 
 /* Seed the heap with the tile's cells in id order: sinks touching one of its non-sinks
  * (label OUTLET), perimeter cells under their own labels; cross-tile pairs to cross. */
-static void seed_tile(pits_b16_tile *g, pits_heap *q, pits_b16_edges *cross) {
+static void seed_tile(pits_b16_tile *g, pits_rheap *q, pits_b16_edges *cross) {
     const uint32_t run = g->w ? g->c1 - g->c0 : g->hi - g->lo, stride = g->w ? g->w : run;
     uint32_t nb[8];
     for (uint32_t row = g->lo; row < g->hi; row += stride)
@@ -77,25 +77,28 @@ static void seed_tile(pits_b16_tile *g, pits_heap *q, pits_b16_edges *cross) {
                 /* a pair of cells in two tiles, recorded once, from the lower id */
                 if (out && nb[j] > id)
                     pits_b16_edge_push(cross, id, nb[j],
-                                       fmaxf(pits_b16_eff(g, id), pits_b16_eff(g, nb[j])));
+                                       pits_maxf(pits_b16_eff(g, id), pits_b16_eff(g, nb[j])));
             }
             if (pits_b16_sink(g, id)) {
                 g->label[id] = PITS_B16_OUTLET;
-                if (open) pits_heap_push(q, pits_key(-INFINITY, id));
+                if (open) pits_rheap_push(q, pits_ord(-INFINITY), id);
             } else if (outside) {
                 g->label[id] = g->next_label ? g->next_label++ : 2 + id;
-                pits_heap_push(q, pits_key(g->h[id], id));
+                pits_rheap_push(q, pits_ord(g->h[id]), id);
             }
         }
 }
 
 int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cross) {
-    pits_heap q = {0};
     pits_fifo pit = {0};
-    seed_tile(g, &q, cross);
+    /* the order of equal heights changes the labels but not the result (the fill is
+     * unique), so the front is a radix heap on the heights (pg_pits_internal.h) */
+    pits_rheap r = {0};
+    seed_tile(g, &r, cross);
     uint32_t nb[8];
-    while (q.n || !pits_fifo_empty(&pit)) {
-        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(&q));
+    while ((r.size || !pits_fifo_empty(&pit)) && !r.oom && !pit.oom && !ev->oom && !cross->oom) {
+        uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_rheap_pop(&r));
+        if (r.oom) break;
         float wc = pits_b16_eff(g, c);
         uint32_t lc = g->label[c];
         int k = pg_pits_neighbours(g->t, c, nb);
@@ -104,7 +107,7 @@ int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cr
             if (!pits_b16_inside(g, n)) continue;
             uint32_t ln = g->label[n];
             if (ln) {
-                if (ln != lc) pits_b16_edge_push(ev, lc, ln, fmaxf(wc, pits_b16_eff(g, n)));
+                if (ln != lc) pits_b16_edge_push(ev, lc, ln, pits_maxf(wc, pits_b16_eff(g, n)));
                 continue;
             }
             g->label[n] = lc;
@@ -112,13 +115,12 @@ int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cr
                 g->h[n] = wc;
                 pits_fifo_push(&pit, n);
             } else {
-                pits_heap_push(&q, pits_key(g->h[n], n));
+                pits_rheap_push(&r, pits_ord(g->h[n]), n);
             }
         }
-        if (q.oom || pit.oom || ev->oom || cross->oom) break;
     }
-    int oom = q.oom || pit.oom || ev->oom || cross->oom;
-    pits_heap_free(&q);
+    int oom = r.oom || pit.oom || ev->oom || cross->oom;
+    pits_rheap_free(&r);
     pits_fifo_free(&pit);
     return oom;
 }
@@ -169,7 +171,7 @@ int pits_b16_solve(const pits_b16_edges *ev, size_t nev, size_t nl, uint32_t sou
         uint32_t l = pits_key_id(key);
         if (pits_key(level[l], l) != key) continue;
         for (uint32_t k = start[l]; k < start[l + 1]; k++) {
-            float w = fmaxf(level[l], adj[k].w);
+            float w = pits_maxf(level[l], adj[k].w);
             if (w < level[adj[k].b]) {
                 level[adj[k].b] = w;
                 pits_heap_push(&q, pits_key(w, adj[k].b));

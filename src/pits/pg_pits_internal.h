@@ -40,12 +40,44 @@ static inline float pits_key_height(uint64_t k) {
     return f;
 }
 
+/* nextafterf(v, +inf) and nextafterf(v, -inf) for non-NaN v, bit for bit, without the
+ * library call (they run once per cell in the floods): the ordered bits of a float
+ * step by one per ulp, except across zero, where both zeros go to the smallest
+ * denormal of the other sign's side. */
 static inline float pits_up(float v) {
-    return nextafterf(v, INFINITY);
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    if ((u & 0x7fffffffu) == 0)
+        u = 1; /* +-0 -> +denorm_min */
+    else if (!(u & 0x80000000u))
+        u += u != 0x7f800000u; /* +inf stays */
+    else
+        u--; /* negative: towards zero (-denorm_min -> -0) */
+    memcpy(&v, &u, 4);
+    return v;
 }
 
 static inline float pits_down(float v) {
-    return nextafterf(v, -INFINITY);
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    if ((u & 0x7fffffffu) == 0)
+        u = 0x80000001u; /* +-0 -> -denorm_min */
+    else if (u & 0x80000000u)
+        u += u != 0xff800000u; /* -inf stays */
+    else
+        u--; /* positive: towards zero (denorm_min -> +0) */
+    memcpy(&v, &u, 4);
+    return v;
+}
+
+/* fmaxf and fminf for non-NaN arguments as glibc computes them (the second argument
+ * wins ties, so max(+0, -0) is -0), inlined. */
+static inline float pits_maxf(float a, float b) {
+    return a > b ? a : b;
+}
+
+static inline float pits_minf(float a, float b) {
+    return a < b ? a : b;
 }
 
 /* Room for `need` elements of elem bytes in the array a of capacity *cap (doubling,
@@ -96,6 +128,89 @@ static inline uint64_t pits_heap_pop(pits_heap *q) {
     return top;
 }
 
+/* ---- monotone radix heap of (height, id) ----
+ *
+ * For floods whose result does not depend on the order of equal heights (the minimal
+ * fill and the minimal epsilon-surface are unique; the tiled fill's labels are
+ * resolved by the label graph): the key is only the height's ordered bits
+ * (pits_ord), and keys are popped in nondecreasing order while every push is at
+ * least the last key popped (a Dijkstra or Priority-Flood front only rises).
+ * Layout: bucket 0 holds the entries whose key equals `last` (the last key taken
+ * out); bucket i >= 1 those whose key first differs from `last` in bit i - 1 from
+ * the top, i.e. 32 - clz(key ^ last) = i. Entries are (key << 32 | id).
+ * Invariant: every key >= last, so a bucket's entries all exceed those of the
+ * buckets below it. Popping from an empty bucket 0 takes the first non-empty bucket,
+ * makes its smallest key the new `last`, and spreads its entries into lower buckets
+ * (each entry only ever moves down, at most 32 times, usually once or twice): a
+ * sequential scan instead of a binary heap's log n cache misses per operation
+ * (Ahuja, Mehlhorn, Orlin & Tarjan 1990, "Faster algorithms for the shortest path
+ * problem", J. ACM 37(2):213-223, the one-level radix heap). Equal keys pop in no
+ * particular order. */
+typedef struct pits_rheap {
+    uint64_t *b[33];
+    size_t n[33], cap[33];
+    size_t size;
+    uint32_t last;
+    int oom;
+} pits_rheap;
+
+void pits_rheap_free(pits_rheap *r);
+void pits_rheap_grow(pits_rheap *r, int bucket);
+/* Frees an emptied bucket's storage, so that the buckets' capacities add up to about
+ * the entries they hold, not to each bucket's largest size so far. */
+void pits_rheap_release(pits_rheap *r, int bucket);
+
+static inline int pits_rheap_bucket(uint32_t key, uint32_t last) {
+    return key == last ? 0 : 32 - __builtin_clz(key ^ last);
+}
+
+static inline void pits_rheap_push(pits_rheap *r, uint32_t key, uint32_t id) {
+    int i = pits_rheap_bucket(key, r->last);
+    if (r->n[i] == r->cap[i]) {
+        pits_rheap_grow(r, i);
+        if (r->oom) return;
+    }
+    r->b[i][r->n[i]++] = (uint64_t)key << 32 | id;
+    r->size++;
+}
+
+/* Refill bucket 0 from the first non-empty bucket (r->size > 0). */
+static inline void pits_rheap_refill(pits_rheap *r) {
+    int i = 1;
+    while (!r->n[i])
+        i++;
+    uint64_t *e = r->b[i];
+    size_t n = r->n[i];
+    uint64_t m = e[0];
+    for (size_t k = 1; k < n; k++)
+        if (e[k] < m) m = e[k];
+    r->last = (uint32_t)(m >> 32);
+    r->n[i] = 0;
+    for (size_t k = 0; k < n; k++) { /* every entry goes to a bucket below i */
+        int j = pits_rheap_bucket((uint32_t)(e[k] >> 32), r->last);
+        if (r->n[j] == r->cap[j]) {
+            pits_rheap_grow(r, j);
+            if (r->oom) return; /* the caller stops on oom; entries may be lost */
+        }
+        r->b[j][r->n[j]++] = e[k];
+    }
+    if (r->cap[i] > 4096) pits_rheap_release(r, i); /* its entries now live below */
+}
+
+/* The smallest key (ordered bits) without removing it; the heap is not empty. */
+static inline uint32_t pits_rheap_top_key(pits_rheap *r) {
+    if (!r->n[0]) pits_rheap_refill(r);
+    return r->last; /* after an oom in the refill, the caller's oom check stops it */
+}
+
+/* Removes one entry with the smallest key: returns (key << 32 | id). */
+static inline uint64_t pits_rheap_pop(pits_rheap *r) {
+    if (!r->n[0]) pits_rheap_refill(r);
+    if (r->oom) return 0;
+    r->size--;
+    return r->b[0][--r->n[0]];
+}
+
 /* ---- FIFO of ids, reset whenever it drains ---- */
 typedef struct pits_fifo {
     uint32_t *a;
@@ -144,8 +259,11 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
 /* One Dijkstra flood for W(c) = max(floor(c), up(min over neighbours W(n))).
  * w: the sources' values (read through their keys) and, for every cell the flood may
  * set, a start value (+inf, or an upper bound); out: W on those cells. settable(ctx,
- * id) says whether the flood may set a cell (not a sink, inside the region). q holds
- * the sources' keys (height -inf for sinks). Returns nonzero when out of memory. */
+ * id) says whether the flood may set a cell (not a sink, inside the region); NULL:
+ * ctx is the state array, the PITS_OPEN cells are settable, and every other cell must
+ * have w == floor (flood_rest sets them so). q holds
+ * the sources' keys (height -inf for sinks), in any order (q->a is read, then freed:
+ * q is empty on return). Returns nonzero when out of memory. */
 typedef struct pits_meps {
     const pg_pits_topo *t;
     float *w;

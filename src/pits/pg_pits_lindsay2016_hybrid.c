@@ -73,7 +73,7 @@ static void visit(hybrid *s, uint32_t c, int c_filled, uint32_t n, pits_heap *q,
         pits_heap_push(q, pits_key(hn, n));
         return;
     }
-    int in_pit = hn < fminf(hc, s->orig[c]);
+    int in_pit = hn < pits_minf(hc, s->orig[c]);
     if (in_pit && !c_filled && channel_fits(s, c, hn)) {
         carve(s, c, hn);
         s->breaches++;

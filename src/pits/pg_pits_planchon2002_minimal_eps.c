@@ -35,55 +35,68 @@
 
 #include <stdlib.h>
 
-/* The next cell to settle: the smaller key of the FIFO's front and the heap's top. */
-static uint64_t next_key(const pits_meps *m, pits_heap *q, pits_fifo *f) {
-    if (!pits_fifo_empty(f)) {
-        uint32_t id = f->a[f->head];
-        uint64_t k = pits_key(m->w[id], id);
-        if (!q->n || k <= q->a[0]) {
-            pits_fifo_pop(f);
-            return k;
-        }
-    }
-    return pits_heap_pop(q);
-}
-
 /* Cells set to exactly up(w) of the cell being settled go to a FIFO instead of the
  * heap (Barnes et al. 2014's "improved" trick, which makes flats linear): the settled
  * values never decrease, so the FIFO is sorted, and no later cell can offer less than
- * up(w), so its cells' values are final. Merging it with the heap by key keeps the
- * Dijkstra order. */
-int pits_meps_flood(pits_meps *m, pits_heap *q) {
+ * up(w), so its cells' values are final. Merging it with the heap by height keeps the
+ * Dijkstra order; the heap is a monotone radix heap (pg_pits_internal.h), since the
+ * result is unique and so does not depend on the order of equal heights.
+ * A neighbour is looked at only when its value exceeds up (else nothing can lower
+ * it), which skips the settled cells with one load. With the state array (by_state),
+ * the cells that may not be set need no test of their own: flood_rest gives them
+ * w = floor, and max(floor, up) < floor never holds. */
+static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
     pits_fifo fifo = {0};
+    pits_rheap r = {0};
     uint32_t nb[8];
-    while (q->n || !pits_fifo_empty(&fifo)) {
-        uint64_t key = next_key(m, q, &fifo);
-        uint32_t c = pits_key_id(key);
-        if (m->settable(m->ctx, c) && key != pits_key(m->w[c], c))
-            continue; /* superseded by a lower value */
-        float hk = pits_key_height(key), up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
+    float *w = m->w;
+    const float *floor_ = m->floor;
+    for (size_t i = 0; i < q->n && !r.oom; i++)
+        pits_rheap_push(&r, (uint32_t)(q->a[i] >> 32), pits_key_id(q->a[i]));
+    int seed_oom = q->oom;
+    pits_heap_free(q); /* the sources now live in r: not both at once */
+    q->oom = seed_oom;
+    while ((r.size || !pits_fifo_empty(&fifo)) && !r.oom && !fifo.oom) {
+        uint32_t c, kord;
+        if (!pits_fifo_empty(&fifo) &&
+            (!r.size || pits_ord(w[fifo.a[fifo.head]]) <= pits_rheap_top_key(&r))) {
+            c = pits_fifo_pop(&fifo);
+            kord = pits_ord(w[c]);
+        } else {
+            uint64_t e = pits_rheap_pop(&r);
+            if (r.oom) break;
+            c = pits_key_id(e);
+            kord = (uint32_t)(e >> 32);
+            /* (with the state array only settable cells are ever queued) */
+            if ((by_state || m->settable(m->ctx, c)) && kord != pits_ord(w[c]))
+                continue; /* superseded by a lower value */
+        }
+        float hk = pits_key_height((uint64_t)kord << 32);
+        float up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
         int k = pg_pits_neighbours(m->t, c, nb);
         for (int j = 0; j < k; j++) {
             uint32_t n = nb[j];
-            if (!m->settable(m->ctx, n)) continue;
-            float cand = fmaxf(m->floor[n], up);
-            if (cand < m->w[n]) {
-                m->w[n] = cand;
+            float wn = w[n];
+            if (!(wn > up)) continue; /* max(floor, up) >= up >= w[n]: no gain */
+            if (!by_state && !m->settable(m->ctx, n)) continue;
+            float cand = pits_maxf(floor_[n], up);
+            if (cand < wn) {
+                w[n] = cand;
                 if (cand == up)
                     pits_fifo_push(&fifo, n);
                 else
-                    pits_heap_push(q, pits_key(cand, n));
+                    pits_rheap_push(&r, pits_ord(cand), n);
             }
         }
-        if (q->oom || fifo.oom) break;
     }
-    int oom = q->oom || fifo.oom;
+    int oom = r.oom || fifo.oom;
     pits_fifo_free(&fifo);
+    pits_rheap_free(&r);
     return oom ? -1 : 0;
 }
 
-static int open_cell(const void *ctx, uint32_t id) {
-    return ((const uint8_t *)ctx)[id] == PITS_OPEN;
+int pits_meps_flood(pits_meps *m, pits_heap *q) {
+    return m->settable ? meps_flood(m, q, 0) : meps_flood(m, q, 1);
 }
 
 /* Step 1, linear: a cell with a strictly descending path to a sink keeps its height
@@ -121,11 +134,13 @@ static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, 
         for (int j = 0; j < k; j++)
             if (st[nb[j]] != PITS_OPEN) {
                 float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
-                w[i] = fminf(w[i], fmaxf(h[i], eps ? pits_up(v) : v));
+                w[i] = pits_minf(w[i], pits_maxf(h[i], eps ? pits_up(v) : v));
             }
-        if (w[i] < INFINITY) pits_heap_push(&q, pits_key(w[i], (uint32_t)i));
+        /* pits_meps_flood takes its sources in any order: no heap order needed */
+        if (w[i] < INFINITY && (q.n < q.cap || (pits_heap_grow(&q), !q.oom)))
+            q.a[q.n++] = pits_key(w[i], (uint32_t)i);
     }
-    pits_meps m = {t, w, h, open_cell, st, !eps};
+    pits_meps m = {t, w, h, NULL, st, !eps};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom;

@@ -52,6 +52,22 @@ void pits_heap_heapify(pits_heap *q) {
         sift_down(q->a, q->n, i);
 }
 
+void pits_rheap_free(pits_rheap *r) {
+    for (int i = 0; i < 33; i++)
+        free(r->b[i]);
+    memset(r, 0, sizeof *r);
+}
+
+void pits_rheap_grow(pits_rheap *r, int bucket) {
+    if (PG_ARRAY_RESERVE(r->b[bucket], &r->cap[bucket], r->n[bucket] + 1, NULL)) r->oom = 1;
+}
+
+void pits_rheap_release(pits_rheap *r, int bucket) {
+    free(r->b[bucket]);
+    r->b[bucket] = NULL;
+    r->cap[bucket] = 0;
+}
+
 void pits_fifo_free(pits_fifo *f) {
     free(f->a);
     f->a = NULL;

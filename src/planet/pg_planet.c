@@ -11,9 +11,11 @@
  * names must load completely and in range, or the planet is refused: the measures
  * that read it (pg_inspect_copy.h) index the exemplar cube with it. */
 #include "planetgen/pg_planet.h"
+#include "planetgen/pg_planet_tiles.h"
 
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_json.h"
+#include "planetgen/pg_planet_tiles.h"
 #include "planetgen/pg_synth.h"
 #include "pg_planet_meta.h"
 
@@ -146,6 +148,19 @@ pg_json *pg_planet_meta_json(const pg_planet *p) {
     pg_json_set_string(j, "exemplar", p->exemplar);
     if (isfinite(p->closed_land_share_before_final))
         pg_json_set_number(j, "closed_land_share_before_final", p->closed_land_share_before_final);
+    const pg_planet_generation *g = &p->generation;
+    if (g->layout[0]) {
+        pg_json *o = pg_json_set_object(j, "generation");
+        pg_json_set_string(o, "layout", g->layout);
+        if (g->plates > 0) {
+            pg_json_set_number(o, "plates", g->plates);
+            pg_json_set_number(o, "land_fraction", g->land_fraction);
+            pg_json_set_number(o, "axial_tilt_deg", g->axial_tilt_deg);
+            pg_json_set_number(o, "temperature_offset_K", g->temperature_offset_K);
+        }
+        pg_json_set_number(o, "jitter", g->jitter);
+        pg_json_set_number(o, "passes", g->passes);
+    }
     return j;
 }
 
@@ -378,11 +393,26 @@ pg_drainage_terrain pg_planet_drainage_terrain(const pg_planet *p) {
     return t;
 }
 
+pg_status pg_planet_alloc_meta(const pg_planet_meta *meta, const char *file, pg_planet *p,
+                               pg_error *err) {
+    pg_cube_projection proj;
+    pg_status s = pg_cube_projection_parse(meta->projection, file, &proj, err);
+    if (s == PG_OK)
+        s = pg_planet_alloc(p, proj, meta->tiles, meta->tile_size, meta->ellipsoid, err);
+    if (s != PG_OK) return s;
+    p->seed = meta->seed;
+    p->sea_level = (float)meta->sea_level;
+    snprintf(p->exemplar, sizeof p->exemplar, "%s", meta->exemplar);
+    p->closed_land_share_before_final = meta->closed_land_share_before_final;
+    return PG_OK;
+}
+
 pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
     memset(p, 0, sizeof *p);
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
         return pg_error_set(err, PG_ERR_BADINPUT, "%s: not a directory", dir);
+    if (pg_planet_dir_is_tiled(dir)) return pg_planet_load_tiles(dir, p, err);
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, PG_PLANET_META_NAME);
     if (stat(path, &st) != 0)
@@ -409,14 +439,8 @@ pg_status pg_planet_load(const char *dir, pg_planet *p, pg_error *err) {
             return pg_error_set(err, PG_ERR_BADINPUT, "%s: %dx%d, but %s says %lldx%lld", path, w,
                                 h, PG_PLANET_META_NAME, (long long)n, (long long)n);
     }
-    pg_cube_projection proj;
-    s = pg_cube_projection_parse(meta.projection, PG_PLANET_META_NAME, &proj, err);
-    if (s == PG_OK) s = pg_planet_alloc(p, proj, meta.tiles, meta.tile_size, meta.ellipsoid, err);
+    s = pg_planet_alloc_meta(&meta, PG_PLANET_META_NAME, p, err);
     if (s != PG_OK) return s;
-    p->seed = meta.seed;
-    p->sea_level = (float)meta.sea_level;
-    snprintf(p->exemplar, sizeof p->exemplar, "%s", meta.exemplar);
-    p->closed_land_share_before_final = meta.closed_land_share_before_final;
     s = load_faces(dir, p, err);
     if (s == PG_OK && meta.has_source) s = load_source(dir, &meta, p, err);
     if (s != PG_OK) pg_planet_free(p);

@@ -31,6 +31,12 @@ typedef struct pg_planet_meta {
 /* Parse and validate planet.json; every problem names the file and the key. */
 pg_status pg_planet_meta_read(const char *path, pg_planet_meta *m, pg_error *err);
 
+/* Allocate the planet that meta describes (faces zeroed) and set its parameters;
+ * `file` names the JSON file in errors (pg_planet.c). */
+struct pg_planet;
+pg_status pg_planet_alloc_meta(const pg_planet_meta *meta, const char *file, struct pg_planet *p,
+                               pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

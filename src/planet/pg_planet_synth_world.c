@@ -58,6 +58,72 @@ pg_status pg_planet_world_exemplar_climate(const pg_synth_exemplar *ex, int64_t 
     return st;
 }
 
+/* Area of texel (x, y) of an n-texel face on the unit sphere: two spherical triangles. */
+static double texel_area(int f, int64_t n, int64_t x, int64_t y) {
+    double c[4][3];
+    for (int k = 0; k < 4; k++) {
+        double u = 2.0 * (double)(x + (k & 1)) / (double)n - 1,
+               v = 2.0 * (double)(y + (k >> 1)) / (double)n - 1;
+        pg_cube_to_dir(PG_CUBE_DEFAULT_PROJECTION, f, u, v, c[k]);
+    }
+    return pg_cube_spherical_triangle(c[0], c[1], c[3]) +
+           pg_cube_spherical_triangle(c[0], c[3], c[2]);
+}
+
+typedef struct ps_keyed {
+    float h, a; /* height (m), area */
+} ps_keyed;
+
+static int keyed_cmp(const void *pa, const void *pb) {
+    const ps_keyed *a = pa, *b = pb;
+    return (a->h > b->h) - (a->h < b->h);
+}
+
+/* nq area-weighted quantiles of the m samples k (sorted here) into q, ascending. */
+static void quantiles(ps_keyed *k, size_t m, int nq, float *q) {
+    qsort(k, m, sizeof *k, keyed_cmp);
+    double total = 0, below = 0;
+    for (size_t i = 0; i < m; i++)
+        total += k[i].a;
+    size_t i = 0;
+    for (int j = 0; j < nq; j++) {
+        double want = total * j / (nq - 1);
+        while (i + 1 < m && below + 0.5 * k[i].a < want)
+            below += k[i++].a;
+        q[j] = k[i].h;
+    }
+}
+
+pg_status pg_planet_world_exemplar_hypsometry(const pg_synth_exemplar *ex, int64_t n, int nq,
+                                              float *land_m, float *ocean_m, pg_error *err) {
+    if (ex->nfaces != 6 || n < 1 || ex->face_size % n || nq < 2)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "layout world: needs a cube exemplar whose face size %lld divides",
+                            (long long)n);
+    float *h = exemplar_relief(ex, n);
+    ps_keyed *land = malloc((size_t)6 * n * n * sizeof *land),
+             *sea = malloc((size_t)6 * n * n * sizeof *sea);
+    if (!h || !land || !sea) {
+        free(h), free(land), free(sea);
+        return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    }
+    size_t nl = 0, no = 0;
+    for (int64_t id = 0; id < 6 * n * n; id++) {
+        ps_keyed k = {h[id], (float)texel_area((int)(id / (n * n)), n, id % n, id / n % n)};
+        if (h[id] > 0)
+            land[nl++] = k;
+        else
+            sea[no++] = k;
+    }
+    pg_status st = PG_OK;
+    if (!nl || !no)
+        st = pg_error_set(err, PG_ERR_BADINPUT, "layout world: the exemplar has no %s",
+                          nl ? "ocean" : "land");
+    if (!st) quantiles(land, nl, nq, land_m), quantiles(sea, no, nq, ocean_m);
+    free(h), free(land), free(sea);
+    return st;
+}
+
 pg_status pg_ps_world_setup(pg_ps_ctx *c, pg_error *err) {
     if (c->p->layout != PG_LAYOUT_WORLD) return PG_OK;
     pg_climate cl;

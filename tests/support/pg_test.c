@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +69,26 @@ int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf, 
     unlink(errp);
     if (st == -1 || !WIFEXITED(st)) return -1;
     return WEXITSTATUS(st);
+}
+
+int pg_test_sh(char *out, size_t size, const char *fmt, ...) {
+    char cmd[16384];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
+    FILE *f = popen(cmd, "r");
+    if (!f) return -1;
+    char tmp[4096];
+    size_t n = 0, k;
+    while ((k = fread(tmp, 1, sizeof tmp, f)) > 0) {
+        size_t c = out && n + 1 < size ? (k < size - 1 - n ? k : size - 1 - n) : 0;
+        if (c) memcpy(out + n, tmp, c);
+        n += c;
+    }
+    if (out && size) out[n] = '\0';
+    int st = pclose(f);
+    return st == -1 || !WIFEXITED(st) ? -1 : WEXITSTATUS(st);
 }
 
 int pg_test_count_files(const char *dir) {

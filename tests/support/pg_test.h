@@ -22,6 +22,14 @@ void pg_test_scratch_dir(const char *tag, char *out, size_t out_size);
  * the caller's buffers (may be NULL). Returns the exit code, or -1 if it was killed. */
 int pg_test_run_cli(const char *args, char *out, size_t out_size, char *errbuf, size_t err_size);
 
+/* Run a shell command (printf-style) and capture its stdout into out (may be NULL;
+ * cut at size). Returns the exit code, or -1 if it was killed. */
+int pg_test_sh(char *out, size_t size, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
 /* Number of regular files (recursively) under dir; 0 if dir does not exist. */
 int pg_test_count_files(const char *dir);
 

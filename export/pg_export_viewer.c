@@ -1,0 +1,43 @@
+/* pg_export_viewer.c - the browser viewer's files (pg_export.h, docs/export.md, "The
+ * browser viewer"): the page and its module from export/viewer/ and the pinned three.js
+ * files, all compiled in by scripts/embed-files.cmake, plus viewer.json naming the .glb.
+ * Only the files the page imports are shipped, byte for byte as npm installed them. */
+#include "planetgen/pg_export.h"
+
+#include "pg_export_viewer_assets.h"
+#include "planetgen/pg_json.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+bool pg_export_viewer_available(void) {
+    return pg_viewer_has_three != 0;
+}
+
+static pg_status write_asset(const pg_viewer_asset *a, pg_planet_path_fn path_for, void *user,
+                             pg_error *err) {
+    const char *path = path_for(a->name, user);
+    if (!path) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", a->name);
+    FILE *f = fopen(path, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    size_t n = fwrite(a->data, 1, a->size, f);
+    if (fclose(f) != 0 || n != a->size)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    return PG_OK;
+}
+
+pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
+                                 pg_error *err) {
+    if (!pg_export_viewer_available())
+        return pg_error_set(err, PG_ERR_IO,
+                            "this planetgen was built without three.js (npm was missing at build "
+                            "time): install npm (scripts/bootstrap) and rebuild");
+    for (const pg_viewer_asset *a = pg_viewer_assets; a->name; a++) {
+        pg_status st = write_asset(a, path_for, user, err);
+        if (st) return st;
+    }
+    pg_json *j = pg_json_object();
+    if (j) pg_json_set_string(j, "glb", glb_url);
+    return pg_planet_write_json(j, "viewer.json", path_for, user, err);
+}
