@@ -205,6 +205,13 @@ static void split_faces(const float *cube, int64_t n, int ch, const float *faces
         faces[f] = cube + (size_t)f * (size_t)(n * n) * ch;
 }
 
+void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
+                         float *out) {
+    const float *faces[PG_CUBE_NFACES];
+    split_faces(cube, g->n, ch, faces);
+    cube_sample_g(g, faces, ch, dir, out);
+}
+
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out) {
     pg_cube_grid g;

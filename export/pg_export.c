@@ -139,40 +139,49 @@ static pg_status encode_slot(glb_images *gi, int k, const char *kind, const floa
                             &gi->bytes[k], &im->size, err);
 }
 
-/* The three images of a face: the normal map and the normalised heights are
- * computed first (each loop parallel), then the three encodings run in parallel:
- * PNG compression is the slowest step and is single-threaded per image. */
-static pg_status encode_face(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
-                             const pg_export_opts *o, double lo, double scale, int f,
-                             glb_images *gi, pg_error *err) {
+/* One of the three images of a face (k: 0 albedo, 1 normal map, 2 normalised heights),
+ * its input computed inside the job: encodings are single-threaded (zlib), so the 18
+ * images are encoded in parallel, and only the jobs in flight hold a face's float
+ * buffer. The normal map's own loops run on the job's thread alone then; each texel is
+ * computed the same way on any thread, so the bytes are those of a serial run. */
+static pg_status encode_job(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
+                            const pg_export_opts *o, double lo, double scale, int f, int k,
+                            glb_images *gi, pg_error *err) {
+    static const char *const kind[3] = {"albedo", "normal", "height"};
+    static const int ch[3] = {3, 3, 1}, bits[3] = {8, 8, 16};
     size_t nn = (size_t)p->n * p->n;
-    float *nrm = malloc(nn * 3 * sizeof(float)), *hgt = malloc(nn * sizeof(float));
-    pg_status st = nrm && hgt ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
-    if (st == PG_OK) st = pg_export_normal_map(p, g, mesh, o->exaggeration, f, nrm, err);
-    if (st == PG_OK) {
-#pragma omp parallel for schedule(static)
+    pg_export_codec codec = PG_EXPORT_CODEC_PNG;
+    if (k == 0 && o->texture_format == PG_EXPORT_TEXTURE_JPEG) codec = PG_EXPORT_CODEC_JPEG;
+    if (k == 0)
+        return encode_slot(gi, 3 * f, kind[0], p->albedo[f], p->n, ch[0], bits[0], codec,
+                           o->jpeg_quality, err);
+    float *data = malloc(nn * (size_t)ch[k] * sizeof(float));
+    pg_status st = data ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
+    if (st == PG_OK && k == 1) st = pg_export_normal_map(p, g, mesh, o->exaggeration, f, data, err);
+    if (st == PG_OK && k == 2)
         for (size_t i = 0; i < nn; i++)
-            hgt[i] = (float)((p->height[f][i] - lo) / scale);
-    }
-    pg_export_codec albedo_codec =
-        o->texture_format == PG_EXPORT_TEXTURE_JPEG ? PG_EXPORT_CODEC_JPEG : PG_EXPORT_CODEC_PNG;
-    const char *kind[3] = {"albedo", "normal", "height"};
-    const float *data[3] = {p->albedo[f], nrm, hgt};
-    const int ch[3] = {3, 3, 1}, bits[3] = {8, 8, 16};
-    const pg_export_codec codec[3] = {albedo_codec, PG_EXPORT_CODEC_PNG, PG_EXPORT_CODEC_PNG};
-    pg_error e[3] = {{0}, {0}, {0}};
-    pg_status sk[3] = {PG_OK, PG_OK, PG_OK};
-    if (st == PG_OK) {
-#pragma omp parallel for schedule(dynamic, 1)
-        for (int k = 0; k < 3; k++)
-            sk[k] = encode_slot(gi, 3 * f + k, kind[k], data[k], p->n, ch[k], bits[k], codec[k],
-                                o->jpeg_quality, &e[k]);
-    }
-    for (int k = 0; st == PG_OK && k < 3; k++)
-        if (sk[k] != PG_OK) st = pg_error_set(err, sk[k], "%s", e[k].msg);
-    free(nrm);
-    free(hgt);
+            data[i] = (float)((p->height[f][i] - lo) / scale);
+    if (st == PG_OK)
+        st = encode_slot(gi, 3 * f + k, kind[k], data, p->n, ch[k], bits[k], codec, o->jpeg_quality,
+                         err);
+    free(data);
     return st;
+}
+
+/* All 18 images; the first failure in face order is reported. */
+static pg_status encode_faces(const pg_planet *p, const pg_cube_grid *g, const pg_export_mesh *mesh,
+                              const pg_export_opts *o, double lo, double scale, glb_images *gi,
+                              pg_error *err) {
+    enum { NJOBS = 3 * PG_CUBE_NFACES };
+    pg_status sk[NJOBS];
+    pg_error e[NJOBS];
+    memset(e, 0, sizeof e);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int j = 0; j < NJOBS; j++)
+        sk[j] = encode_job(p, g, mesh, o, lo, scale, j / 3, j % 3, gi, &e[j]);
+    for (int j = 0; j < NJOBS; j++)
+        if (sk[j] != PG_OK) return pg_error_set(err, sk[j], "%s", e[j].msg);
+    return PG_OK;
 }
 
 static void set_extra_num(pg_gltf_extra *e, const char *key, double v, int is_int) {
@@ -233,8 +242,7 @@ static pg_status write_glb(const pg_planet *p, const pg_cube_grid *g, const pg_e
     glb_images *gi = calloc(1, sizeof *gi);
     if (!gi) return pg_error_set(err, PG_ERR_NOMEM, "out of memory");
     pg_status st = PG_OK;
-    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++)
-        st = encode_face(p, g, mesh, o, lo, scale, f, gi, err);
+    st = encode_faces(p, g, mesh, o, lo, scale, gi, err);
     double embedded = 0; /* bytes of the binary chunk: images plus the mesh */
     for (int k = 0; k < 3 * PG_CUBE_NFACES; k++)
         embedded += (double)gi->img[k].size;

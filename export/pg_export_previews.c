@@ -18,6 +18,7 @@
 #include "pg_vec3.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,38 +57,49 @@ static pg_status reduce(const pg_planet *p, reduced *r, pg_error *err) {
     return PG_OK;
 }
 
-static pg_status write_png(const char *name, const pg_image *img, pg_planet_path_fn path_for,
-                           void *user, int *nfiles, pg_error *err) {
-    const char *path = path_for(name, user);
-    if (!path) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", name);
-    (*nfiles)++;
-    return pg_image_write_png(path, img, 8, err);
+/* Write n PNGs at once: each encoding is single-threaded (zlib), so the images are
+ * encoded in parallel, one per thread. The paths are taken first, in order, because
+ * path_for need not be thread-safe. The first failure in image order is reported. */
+static pg_status write_pngs(int n, const char *const *names, const pg_image *imgs,
+                            pg_planet_path_fn path_for, void *user, int *nfiles, pg_error *err) {
+    char paths[8][4096];
+    for (int i = 0; i < n; i++) {
+        const char *path = path_for(names[i], user);
+        if (!path) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", names[i]);
+        snprintf(paths[i], sizeof paths[i], "%s", path);
+        (*nfiles)++;
+    }
+    pg_status sk[8];
+    pg_error e[8];
+    memset(e, 0, sizeof e);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < n; i++)
+        sk[i] = pg_image_write_png(paths[i], &imgs[i], 8, &e[i]);
+    for (int i = 0; i < n; i++)
+        if (sk[i] != PG_OK) return pg_error_set(err, sk[i], "%s", e[i].msg);
+    return PG_OK;
 }
 
-static pg_status equirect_previews(const pg_planet *p, const reduced *r, int width,
-                                   pg_planet_path_fn path_for, void *user, int *nfiles,
+/* The equirectangular albedo and shaded relief into out[0] and out[1]. */
+static pg_status equirect_previews(const pg_planet *p, const reduced *r, int width, pg_image *out,
                                    pg_error *err) {
     int w = width > 0 ? width : (int)(4 * r->n < 2048 ? 4 * r->n : 2048), h = w / 2;
     float *img4 = malloc((size_t)w * h * 4 * sizeof(float));
-    pg_image rgb = {0}, rel = {0};
+    pg_image *rgb = &out[0], *rel = &out[1];
     pg_status st = img4 ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate previews");
     if (st == PG_OK)
         st = pg_cube_to_equirect(p->projection, r->n, &p->ellipsoid, r->cube, 4, img4, w, h, err);
-    if (st == PG_OK) st = pg_image_alloc(&rgb, w, h, 3, err);
-    if (st == PG_OK) st = pg_image_alloc(&rel, w, h, 3, err);
+    if (st == PG_OK) st = pg_image_alloc(rgb, w, h, 3, err);
+    if (st == PG_OK) st = pg_image_alloc(rel, w, h, 3, err);
     if (st == PG_OK) {
         float *elev = img4; /* compact the heights in place, after copying the colours */
         for (size_t i = 0; i < (size_t)w * h; i++) {
-            memcpy(rgb.data + 3 * i, img4 + 4 * i, 3 * sizeof(float));
+            memcpy(rgb->data + 3 * i, img4 + 4 * i, 3 * sizeof(float));
             elev[i] = img4[4 * i + 3];
         }
-        pg_relief_shade(elev, w, h, p->sea_level, rel.data);
-        st = write_png(PG_EXPORT_ALBEDO_PREVIEW, &rgb, path_for, user, nfiles, err);
+        pg_relief_shade(elev, w, h, p->sea_level, rel->data);
     }
-    if (st == PG_OK) st = write_png(PG_EXPORT_RELIEF_PREVIEW, &rel, path_for, user, nfiles, err);
     free(img4);
-    pg_image_free(&rgb);
-    pg_image_free(&rel);
     return st;
 }
 
@@ -99,13 +111,14 @@ typedef struct globe_view {
 typedef struct globe_ctx {
     const pg_planet *p;
     const reduced *r;
+    pg_cube_grid g; /* the reduced cube's seam maps, built once */
     double exaggeration, a, b, ext;
     double view[3], up[3], right[3], light[3];
 } globe_ctx;
 
 static float sample_height(const globe_ctx *c, const double dir[3]) {
     float v[4];
-    pg_cube_sample(c->p->projection, c->r->n, c->r->cube, 4, dir, v);
+    pg_cube_sample_grid(&c->g, c->r->cube, 4, dir, v);
     return v[3] > c->p->sea_level ? v[3] : c->p->sea_level;
 }
 
@@ -131,7 +144,7 @@ static void shade_point(const globe_ctx *c, const double pnt[3], float out[3]) {
     double ne[3] = {pnt[0] / (c->a * c->a), pnt[1] / (c->a * c->a), pnt[2] / (c->b * c->b)};
     pg_vec3_normalize(ne);
     float col[4];
-    pg_cube_sample(c->p->projection, c->r->n, c->r->cube, 4, pnt, col);
+    pg_cube_sample_grid(&c->g, c->r->cube, 4, pnt, col);
     double axis[3] = {0, 0, 1}, t1[3], t2[3];
     if (fabs(ne[2]) > 0.9) axis[0] = 1, axis[2] = 0;
     pg_vec3_cross(axis, ne, t1);
@@ -155,6 +168,11 @@ static void shade_point(const globe_ctx *c, const double pnt[3], float out[3]) {
     for (int k = 0; k < 3; k++)
         out[k] = (float)(col[k] * shade);
 }
+
+static const globe_view globe_views[4] = {{"globe_north.png", {0, 0, 1}, {-1, 0, 0}},
+                                          {"globe_south.png", {0, 0, -1}, {1, 0, 0}},
+                                          {"globe_lon000.png", {1, 0, 0}, {0, 0, 1}},
+                                          {"globe_lon180.png", {-1, 0, 0}, {0, 0, 1}}};
 
 static void render_globe(globe_ctx *c, const globe_view *v, int size, float *rgb) {
     memcpy(c->view, v->view, sizeof c->view);
@@ -184,27 +202,24 @@ static void render_globe(globe_ctx *c, const globe_view *v, int size, float *rgb
         }
 }
 
+#define NGLOBES 4
+
+/* The four globe renders into out[0..3]. */
 static pg_status globe_renders(const pg_planet *p, const reduced *r, const pg_export_opts *o,
-                               pg_planet_path_fn path_for, void *user, int *nfiles, pg_error *err) {
+                               pg_image *out, pg_error *err) {
     /* north: Greenwich at the bottom; south: at the top; equator: north up */
-    static const globe_view views[4] = {{"globe_north.png", {0, 0, 1}, {-1, 0, 0}},
-                                        {"globe_south.png", {0, 0, -1}, {1, 0, 0}},
-                                        {"globe_lon000.png", {1, 0, 0}, {0, 0, 1}},
-                                        {"globe_lon180.png", {-1, 0, 0}, {0, 0, 1}}};
     int size = o->globe_size > 0 ? o->globe_size : 512;
-    pg_image img;
-    pg_status st = pg_image_alloc(&img, size, size, 3, err);
     globe_ctx c = {.p = p,
                    .r = r,
                    .exaggeration = o->exaggeration,
                    .a = p->ellipsoid.a,
                    .b = p->ellipsoid.a * (1 - p->ellipsoid.f)};
     c.ext = 1.04 * c.a;
-    for (int v = 0; st == PG_OK && v < 4; v++) {
-        render_globe(&c, &views[v], size, img.data);
-        st = write_png(views[v].name, &img, path_for, user, nfiles, err);
+    pg_status st = pg_cube_grid_init(&c.g, p->projection, (int)r->n, 1, err);
+    for (int v = 0; st == PG_OK && v < NGLOBES; v++) {
+        st = pg_image_alloc(&out[v], size, size, 3, err);
+        if (st == PG_OK) render_globe(&c, &globe_views[v], size, out[v].data);
     }
-    pg_image_free(&img);
     return st;
 }
 
@@ -213,8 +228,17 @@ pg_status pg_export_previews(const pg_planet *p, const pg_export_opts *o,
     reduced r;
     pg_status st = reduce(p, &r, err);
     if (st != PG_OK) return st;
-    st = equirect_previews(p, &r, o->preview_width, path_for, user, nfiles, err);
-    if (st == PG_OK) st = globe_renders(p, &r, o, path_for, user, nfiles, err);
+    /* every image first, then all six encoded at once */
+    pg_image img[2 + NGLOBES];
+    memset(img, 0, sizeof img);
+    const char *names[2 + NGLOBES] = {PG_EXPORT_ALBEDO_PREVIEW, PG_EXPORT_RELIEF_PREVIEW};
+    for (int v = 0; v < NGLOBES; v++)
+        names[2 + v] = globe_views[v].name;
+    st = equirect_previews(p, &r, o->preview_width, img, err);
+    if (st == PG_OK) st = globe_renders(p, &r, o, img + 2, err);
     free(r.cube);
+    if (st == PG_OK) st = write_pngs(2 + NGLOBES, names, img, path_for, user, nfiles, err);
+    for (int i = 0; i < 2 + NGLOBES; i++)
+        pg_image_free(&img[i]);
     return st;
 }

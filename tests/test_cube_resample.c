@@ -260,6 +260,31 @@ static void test_blue_marble(void **state) {
     pg_image_free(&src);
 }
 
+/* pg_cube_sample_grid with a grid built once gives pg_cube_sample's values at
+ * directions all over the sphere (cube vertices and seams included), for a face size
+ * that is not a power of two, as the previews use. */
+static void test_sample_with_grid(void **state) {
+    (void)state;
+    const int64_t n = 96;
+    float *cube = malloc((size_t)6 * n * n * 2 * sizeof *cube);
+    for (size_t i = 0; i < (size_t)6 * n * n * 2; i++)
+        cube[i] = (float)((i * 2654435761u) % 1000) / 1000.0f;
+    pg_cube_grid g;
+    pg_error err = {0};
+    assert_int_equal(pg_cube_grid_init(&g, PG_CUBE_EQUIANGULAR, (int)n, 1, &err), PG_OK);
+    int differ = 0;
+    for (int k = 0; k < 20000; k++) {
+        double d[3] = {sin(k * 0.7) * cos(k * 1.3), sin(k * 0.7) * sin(k * 1.3), cos(k * 0.7)};
+        if (k < 8) d[0] = k & 1 ? 1 : -1, d[1] = k & 2 ? 1 : -1, d[2] = k & 4 ? 1 : -1;
+        float a[2], b[2];
+        pg_cube_sample(PG_CUBE_EQUIANGULAR, n, cube, 2, d, a);
+        pg_cube_sample_grid(&g, cube, 2, d, b);
+        differ += memcmp(a, b, sizeof a) != 0;
+    }
+    assert_int_equal(differ, 0);
+    free(cube);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_smooth_round_trip),
@@ -268,6 +293,7 @@ int main(void) {
         cmocka_unit_test(test_geodetic_latitude),
         cmocka_unit_test(test_threads_and_bad_input),
         cmocka_unit_test(test_blue_marble),
+        cmocka_unit_test(test_sample_with_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

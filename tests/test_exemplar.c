@@ -135,12 +135,49 @@ static void test_calibration_agrees_with_water_mask(void **state) {
     }
 }
 
+/* The fingerprint names the sources as the load does, repeats for the same files and
+ * options, and changes with an option or with a file rewritten in place. */
+static void test_fingerprint(void **state) {
+    fixture *f = *state;
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    uint64_t a, b;
+    char an[512], hn[512];
+    pg_error err = {0};
+    assert_int_equal(pg_exemplar_fingerprint(&o, &a, an, hn, sizeof an, &err), PG_OK);
+    assert_string_equal(an, f->ex.albedo_src);
+    assert_string_equal(hn, f->ex.height_src);
+    assert_int_equal(pg_exemplar_fingerprint(&o, &b, an, hn, sizeof an, &err), PG_OK);
+    assert_true(a == b);
+    o.sea_level = 1;
+    assert_int_equal(pg_exemplar_fingerprint(&o, &b, an, hn, sizeof an, &err), PG_OK);
+    assert_true(a != b);
+    /* a copy of the albedo, then the same bytes written again: a new modification time */
+    char dir[512], copy[700], cmd[1600];
+    pg_test_scratch_dir("exemplar-fingerprint", dir, sizeof dir);
+    snprintf(copy, sizeof copy, "%s/albedo.jpg", dir);
+    snprintf(cmd, sizeof cmd, "cp '%s' '%s'", PG_MARBLE_ALBEDO, copy);
+    assert_int_equal(system(cmd), 0);
+    pg_exemplar_opts_default(&o);
+    o.albedo_path = copy;
+    assert_int_equal(pg_exemplar_fingerprint(&o, &a, an, hn, sizeof an, &err), PG_OK);
+    assert_string_equal(an, copy);
+    snprintf(cmd, sizeof cmd, "touch -d '2001-01-01 00:00:00' '%s'", copy);
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(pg_exemplar_fingerprint(&o, &b, an, hn, sizeof an, &err), PG_OK);
+    assert_true(a != b);
+    /* a missing source: an error, so the caller loads and reports it */
+    o.albedo_path = "/nonexistent/albedo.png";
+    assert_int_equal(pg_exemplar_fingerprint(&o, &b, an, hn, sizeof an, &err), PG_ERR_IO);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_relief_assembly_size),
         cmocka_unit_test(test_heights_in_metres),
         cmocka_unit_test(test_blue_marble_orientation),
         cmocka_unit_test(test_calibration_agrees_with_water_mask),
+        cmocka_unit_test(test_fingerprint),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -232,6 +232,60 @@ static void test_threads_identical(void **state) {
     run_free(&b);
 }
 
+/* The exemplar mapped from the cache file, whose densely read levels the synthesis
+ * copies onto huge pages (pg_synth_copy_level), gives the bytes of the same exemplar
+ * held in ordinary memory. N = 256 on E = 512: level 0 is read densely. */
+static pg_synth_exemplar *copy_into_memory(const pg_synth_exemplar *m) {
+    pg_synth_exemplar *c = malloc(sizeof *c);
+    assert_non_null(c);
+    *c = *m;
+    c->map = NULL;
+    size_t n = (size_t)m->nfaces * m->face_size * m->face_size;
+    c->albedo = malloc(n * 3);
+    c->height = malloc(n * sizeof(float));
+    memcpy(c->albedo, m->albedo, n * 3);
+    memcpy(c->height, m->height, n * sizeof(float));
+    for (int s = 0; s < m->levels; s++) {
+        c->app[s] = malloc(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
+        memcpy(c->app[s], m->app[s], n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
+        c->kcoh[s] = malloc(n * (size_t)(m->k - 1) * sizeof(uint32_t));
+        memcpy(c->kcoh[s], m->kcoh[s], n * (size_t)(m->k - 1) * sizeof(uint32_t));
+    }
+    return c;
+}
+
+static void test_mapped_cache_identical(void **state) {
+    (void)state;
+    pg_synth_exemplar *given = ex, *mapped = NULL;
+    pg_exemplar_opts eo;
+    pg_exemplar_opts_default(&eo);
+    pg_exemplar src;
+    pg_error err = {0};
+    assert_int_equal(pg_exemplar_load(&eo, &src, &err), PG_OK);
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s/synth-cache", getenv("PG_BUILD_DIR"));
+    pg_synth_exemplar_params ep;
+    pg_synth_exemplar_params_default(&ep);
+    pg_synth_prep_info info;
+    assert_int_equal(pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height,
+                                               src.sea_level, &ep, dir, &mapped, &info, &err),
+                     PG_OK);
+    pg_exemplar_free(&src);
+    assert_true(info.from_cache);
+    assert_non_null(mapped->map);
+    run a, b;
+    ex = mapped;
+    synth(2, 128, PG_LAYOUT_FREE, false, NULL, &a);
+    ex = copy_into_memory(mapped);
+    synth(2, 128, PG_LAYOUT_FREE, false, NULL, &b);
+    assert_same(&a, &b);
+    run_free(&a);
+    run_free(&b);
+    pg_synth_exemplar_free(ex);
+    pg_synth_exemplar_free(mapped);
+    ex = given;
+}
+
 static void test_layout_earth_and_pits(void **state) {
     (void)state;
     run r;
@@ -358,6 +412,7 @@ int main(void) {
         cmocka_unit_test(test_independent_tiles_show_seams),
         cmocka_unit_test(test_tilings_identical),
         cmocka_unit_test(test_threads_identical),
+        cmocka_unit_test(test_mapped_cache_identical),
         cmocka_unit_test(test_layout_earth_and_pits),
         cmocka_unit_test(test_snow_preset),
         cmocka_unit_test(test_guide),

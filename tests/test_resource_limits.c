@@ -14,6 +14,7 @@
 #include "planetgen/pg_image.h"
 #include "planetgen/pg_planet.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -128,8 +129,16 @@ static void expect_override_runs(const char *args, const char *output) {
     if (!est) fail_msg("'%s': no memory_estimate_bytes in %s", a2, json);
     assert_true(strtod(strchr(est, ':') + 1, NULL) > 1e6);
     if (!strstr(text, "\"stages\"") || !strstr(text, "\"seconds\"") ||
-        !strstr(text, "\"peak_rss_bytes\""))
-        fail_msg("'%s': %s lacks stages with seconds and peak_rss_bytes", a2, json);
+        !strstr(text, "\"peak_rss_bytes\"") || !strstr(text, "\"minor_faults\"") ||
+        !strstr(text, "\"major_faults\""))
+        fail_msg("'%s': %s lacks stages with seconds, peak_rss_bytes and page faults", a2, json);
+    /* a stage that did work used CPU time */
+    const char *cpu = strstr(text, "\"cpu_seconds\"");
+    if (!cpu) fail_msg("'%s': no cpu_seconds in %s", a2, json);
+    double most = 0;
+    for (; cpu; cpu = strstr(cpu + 1, "\"cpu_seconds\""))
+        most = fmax(most, strtod(strchr(cpu, ':') + 1, NULL));
+    assert_true(most > 0);
 }
 
 static void test_synth(void **state) {

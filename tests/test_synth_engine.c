@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define TS 64 /* toroidal exemplar size */
 
@@ -224,6 +225,34 @@ static void test_cache_roundtrip(void **state) {
         assert_memory_equal(a->kcoh[s], b->kcoh[s], n * 4);
     }
     assert_memory_equal(a->height, b->height, n * 4);
+    assert_memory_equal(a->albedo, b->albedo, n * 3);
+    assert_memory_equal(a->pca_basis, b->pca_basis, sizeof a->pca_basis);
+    assert_memory_equal(a->pca_mean, b->pca_mean, sizeof a->pca_mean);
+    assert_memory_equal(a->app_scale, b->app_scale, sizeof a->app_scale);
+    /* the hit maps the file: its arrays are not copies */
+    assert_null(a->map);
+    assert_non_null(b->map);
+    assert_true((const char *)b->app[0] >= (const char *)b->map &&
+                (const char *)b->app[0] < (const char *)b->map + b->map_bytes);
+    assert_int_equal((uintptr_t)b->app[0] % 64, 0);
+    /* the index from a source fingerprint: a miss until remembered, then the same file */
+    pg_synth_exemplar *d = NULL;
+    pg_synth_prep_info id;
+    assert_int_equal(pg_synth_lookup_exemplar(42, &p, dir, &d, &id, &err), PG_OK);
+    assert_null(d);
+    pg_synth_remember_sources(42, &p, dir, a);
+    assert_int_equal(pg_synth_lookup_exemplar(41, &p, dir, &d, &id, &err), PG_OK);
+    assert_null(d);
+    assert_int_equal(pg_synth_lookup_exemplar(42, &p, dir, &d, &id, &err), PG_OK);
+    assert_non_null(d);
+    assert_true(id.from_cache);
+    assert_int_equal(d->key, a->key);
+    assert_memory_equal(a->kcoh[1], d->kcoh[1], n * 4);
+    pg_synth_exemplar_free(d);
+    /* a truncated cache file is a miss, never a crash */
+    assert_int_equal(truncate(ib.cache_path, 4096), 0);
+    assert_int_equal(pg_synth_lookup_exemplar(42, &p, dir, &d, &id, &err), PG_OK);
+    assert_null(d);
     /* a changed input misses the cache */
     h[5] += 1;
     pg_synth_exemplar *c;

@@ -223,6 +223,11 @@ pg_status pg_cube_faces_to_equirect(pg_cube_projection p, int64_t n, const pg_el
 /* Bilinear sample of a cube buffer at a direction (ch floats to out). */
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out);
+/* The same sample with the seam maps of g (pg_cube_grid_init with tiles * tile_size = n
+ * texels per face edge) built once by the caller: pg_cube_sample builds them on every
+ * call, which costs more than the sample in a loop over millions of directions. */
+void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
+                         float *out);
 
 /* Solid angle (steradians) of the spherical triangle of unit vectors a, b, c (Van
  * Oosterom & Strackee 1983): texel areas on the unit sphere, two triangles a texel. */

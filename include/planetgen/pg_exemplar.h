@@ -56,6 +56,14 @@ typedef struct pg_exemplar_stats {
 } pg_exemplar_stats;
 
 pg_status pg_exemplar_load(const pg_exemplar_opts *o, pg_exemplar *ex, pg_error *err);
+
+/* A 64-bit fingerprint of what pg_exemplar_load(o) would read: every option, the
+ * identity of every source file (path, device, inode, size, modification and change
+ * times) and the library's source hash; nothing is decoded. albedo_src and height_src
+ * (src_size bytes each) receive the names pg_exemplar_load gives the sources. A file
+ * that cannot be stat'ed fails with PG_ERR_IO: load it to get the real error. */
+pg_status pg_exemplar_fingerprint(const pg_exemplar_opts *o, uint64_t *fp, char *albedo_src,
+                                  char *height_src, size_t src_size, pg_error *err);
 void pg_exemplar_free(pg_exemplar *ex);
 void pg_exemplar_compute_stats(const pg_exemplar *ex, pg_exemplar_stats *st);
 

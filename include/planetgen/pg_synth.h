@@ -103,6 +103,11 @@ typedef struct pg_synth_exemplar {
     uint64_t key;        /* cache key */
     double cold_seconds; /* wall time the (uncached) preparation took, kept in the cache */
     pg_cube_grid grid;   /* 1 tile of E per face: wraps coordinates across exemplar seams */
+    /* Loaded from the cache: albedo, height, app and kcoh point into this read-only
+     * mapping of the cache file (pg_synth_exemplar_free unmaps it); NULL when they were
+     * allocated. */
+    void *map;
+    size_t map_bytes;
 } pg_synth_exemplar;
 
 typedef struct pg_synth_prep_info {
@@ -128,7 +133,29 @@ pg_status pg_synth_prepare_torus(const float *albedo, const float *height, int s
                                  const char *cache_dir, pg_synth_exemplar **out,
                                  pg_synth_prep_info *info, pg_error *err);
 
+/* The cached exemplar prepared from the sources whose fingerprint is source_fp
+ * (pg_exemplar_fingerprint) under parameters p, found through the cache's index without
+ * the sources' pixels; *out is NULL on a miss (then load the sources, prepare with
+ * pg_synth_prepare_exemplar and record the pair with pg_synth_remember_sources). */
+pg_status pg_synth_lookup_exemplar(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                                   const char *cache_dir, pg_synth_exemplar **out,
+                                   pg_synth_prep_info *info, pg_error *err);
+/* Record in the cache's index that source_fp under p prepares ex (whose cache file
+ * pg_synth_prepare_exemplar wrote). Best effort: a failure only costs a later miss. */
+void pg_synth_remember_sources(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                               const char *cache_dir, const pg_synth_exemplar *ex);
+
 void pg_synth_exemplar_free(pg_synth_exemplar *ex);
+
+/* Private copies of the appearance and k-coherence tables of level `scale` of an
+ * exemplar mapped from the cache (ex->map), on transparent huge pages where the kernel
+ * allows, for a caller about to read that level densely: through the mapping's 4 KiB
+ * pages the synthesis spends about 12% more CPU on TLB misses. The level's mapped pages
+ * are then dropped from the process (they stay in the page cache and come back when
+ * read), so the copies take their place in memory. *app and *kcoh are NULL when ex is
+ * not mapped (read its own tables); the caller frees them with free(). */
+pg_status pg_synth_copy_level(const pg_synth_exemplar *ex, int scale, int16_t **app,
+                              uint32_t **kcoh, pg_error *err);
 
 /* The default cache directory (no trailing slash) into buf. */
 void pg_synth_default_cache_dir(char *buf, size_t size);

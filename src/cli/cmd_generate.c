@@ -151,17 +151,30 @@ pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_syn
                                char *src_name, size_t name_size, pg_error *err) {
     pg_exemplar_opts eo;
     pg_cli_exemplar_opts(&a->in, &eo);
-    pg_exemplar src;
-    pg_status st = pg_exemplar_load(&eo, &src, err);
-    if (st) return st;
-    snprintf(src_name, name_size, "%s + %s", src.albedo_src, src.height_src);
     pg_synth_exemplar_params ep;
     pg_synth_exemplar_params_default(&ep);
     ep.face_size = gen_face_size(a);
     ep.levels = GEN_LEVELS;
+    /* a warm cache: found by the sources' fingerprint, without decoding them */
+    const char *cache = a->no_cache ? "" : a->cache_dir;
+    *ex = NULL;
+    uint64_t fp = 0;
+    char an[512], hn[512];
+    pg_error ferr = {0};
+    bool have_fp = !a->no_cache && pg_exemplar_fingerprint(&eo, &fp, an, hn, sizeof an, &ferr) == 0;
+    pg_status st = have_fp ? pg_synth_lookup_exemplar(fp, &ep, cache, ex, pi, err) : PG_OK;
+    if (st || *ex) {
+        if (*ex) snprintf(src_name, name_size, "%s + %s", an, hn);
+        return st;
+    }
+    pg_exemplar src;
+    st = pg_exemplar_load(&eo, &src, err);
+    if (st) return st;
+    snprintf(src_name, name_size, "%s + %s", src.albedo_src, src.height_src);
     st = pg_synth_prepare_exemplar(src.albedo, src.elevation, src.width, src.height, src.sea_level,
-                                   &ep, a->no_cache ? "" : a->cache_dir, ex, pi, err);
+                                   &ep, cache, ex, pi, err);
     pg_exemplar_free(&src);
+    if (!st && have_fp && pi->cache_path[0]) pg_synth_remember_sources(fp, &ep, cache, *ex);
     return st;
 }
 

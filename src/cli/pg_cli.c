@@ -76,6 +76,9 @@ static pg_status stage_report(pg_cli *cli, pg_error *err) {
         pg_json_set_string(s, "name", cli->stages[i].name);
         pg_json_set_number(s, "seconds", cli->stages[i].seconds);
         pg_json_set_number(s, "peak_rss_bytes", cli->stages[i].peak_rss_bytes);
+        pg_json_set_number(s, "cpu_seconds", cli->stages[i].cpu_seconds);
+        pg_json_set_number(s, "minor_faults", cli->stages[i].minor_faults);
+        pg_json_set_number(s, "major_faults", cli->stages[i].major_faults);
     }
     pg_json_set_number(cli->report, "seconds_total", pg_cli_now() - cli->t_start);
     pg_json_set_number(cli->report, "peak_rss_bytes", pg_cli_peak_rss_bytes());

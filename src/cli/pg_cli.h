@@ -70,8 +70,10 @@ typedef struct pg_cli {
         char name[48];
         double seconds;
         double peak_rss_bytes; /* the process's peak RSS when the stage ended */
+        /* the process's CPU seconds (all threads) and page faults during the stage */
+        double cpu_seconds, minor_faults, major_faults;
     } stages[PG_STAGE_MAX];
-    double stage_t0;
+    double stage_t0, stage_cpu0, stage_minflt0, stage_majflt0;
     char stage_name[48];
     double last_draw;
     /* the JSON report: commands add "inputs", "parameters" and "results" members */

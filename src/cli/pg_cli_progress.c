@@ -1,10 +1,12 @@
 /* pg_cli_progress.c - what a command says while it works: info and verbose lines on
  * stdout, and stages (a progress bar with ETA on a terminal, one line per stage
- * otherwise; --quiet silences both) whose times and peak memory go to the report. */
+ * otherwise; --quiet silences both) whose times, CPU seconds, page faults and peak memory go to the
+ * report. */
 #include "pg_cli.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <sys/resource.h>
 #include <time.h>
 
 double pg_cli_now(void) {
@@ -31,9 +33,20 @@ void pg_cli_verbose(const pg_cli *cli, const char *fmt, ...) {
     fflush(stdout);
 }
 
+/* CPU seconds and page faults of the process so far. */
+static void usage_now(double *cpu, double *minflt, double *majflt) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    *cpu = (double)ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+           1e-6 * ru.ru_stime.tv_usec;
+    *minflt = (double)ru.ru_minflt;
+    *majflt = (double)ru.ru_majflt;
+}
+
 void pg_cli_stage_begin(pg_cli *cli, const char *name) {
     snprintf(cli->stage_name, sizeof cli->stage_name, "%s", name);
     cli->stage_t0 = pg_cli_now();
+    usage_now(&cli->stage_cpu0, &cli->stage_minflt0, &cli->stage_majflt0);
     cli->last_draw = 0;
     if (!cli->quiet && cli->tty) pg_cli_progress(cli, 0.0);
 }
@@ -65,6 +78,11 @@ void pg_cli_stage_end(pg_cli *cli) {
         snprintf(cli->stages[cli->nstages].name, sizeof cli->stages[0].name, "%s", cli->stage_name);
         cli->stages[cli->nstages].seconds = dt;
         cli->stages[cli->nstages].peak_rss_bytes = pg_cli_peak_rss_bytes();
+        double cpu, minflt, majflt;
+        usage_now(&cpu, &minflt, &majflt);
+        cli->stages[cli->nstages].cpu_seconds = cpu - cli->stage_cpu0;
+        cli->stages[cli->nstages].minor_faults = minflt - cli->stage_minflt0;
+        cli->stages[cli->nstages].major_faults = majflt - cli->stage_majflt0;
         cli->nstages++;
     }
     if (cli->quiet) return;

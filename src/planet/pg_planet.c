@@ -105,27 +105,17 @@ static void flip_rows(const float *src, float *dst, int64_t n, int ch) {
         memcpy(dst + (size_t)(n - 1 - y) * row, src + (size_t)y * row, row * sizeof(float));
 }
 
-static pg_status save_albedo(const pg_planet *p, pg_planet_path_fn path_for, void *user,
-                             pg_error *err) {
+static pg_status save_albedo_face(const pg_planet *p, int f, const char *path, pg_error *err) {
     pg_image img;
     pg_status st = pg_image_alloc(&img, (int)p->n, (int)p->n, 3, err);
-    for (int f = 0; st == PG_OK && f < PG_CUBE_NFACES; f++) {
-        char name[64];
-        pg_planet_albedo_name(f, name, sizeof name);
-        const char *path = path_for(name, user);
-        if (!path) {
-            st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
-            break;
-        }
-        flip_rows(p->albedo[f], img.data, p->n, 3);
-        st = pg_image_write_png(path, &img, 8, err);
-    }
+    if (st != PG_OK) return st;
+    flip_rows(p->albedo[f], img.data, p->n, 3);
+    st = pg_image_write_png(path, &img, 8, err);
     pg_image_free(&img);
     return st;
 }
 
-static pg_status save_height(const pg_planet *p, pg_planet_path_fn path_for, void *user,
-                             pg_error *err) {
+static pg_status save_height(const pg_planet *p, const char *path, pg_error *err) {
     pg_image parts[PG_CUBE_NFACES];
     const char *names[PG_CUBE_NFACES];
     memset(parts, 0, sizeof parts);
@@ -135,8 +125,6 @@ static pg_status save_height(const pg_planet *p, pg_planet_path_fn path_for, voi
         st = pg_image_alloc(&parts[f], (int)p->n, (int)p->n, 1, err);
         if (st == PG_OK) flip_rows(p->height[f], parts[f].data, p->n, 1);
     }
-    const char *path = st == PG_OK ? path_for(PG_PLANET_HEIGHT_NAME, user) : NULL;
-    if (st == PG_OK && !path) st = pg_error_set(err, PG_ERR_NOMEM, "out of memory");
     if (st == PG_OK) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, NULL, err);
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         pg_image_free(&parts[f]);
@@ -213,13 +201,10 @@ static void fill_source_rows(int part, int y0, int rows, uint32_t *buf, void *us
     }
 }
 
-static pg_status save_source(const pg_planet *p, pg_planet_path_fn path_for, void *user,
-                             pg_error *err) {
+static pg_status save_source(const pg_planet *p, const char *path, pg_error *err) {
     const char *names[PG_CUBE_NFACES];
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         names[f] = pg_cube_face_name(f);
-    const char *path = path_for(SOURCE_NAME, user);
-    if (!path) return pg_error_set(err, PG_ERR_NOMEM, "out of memory");
     return pg_exr_write_uint_parts(path, PG_CUBE_NFACES, names, (int)p->n, (int)p->n, 3,
                                    source_channels, fill_source_rows, (void *)p, err);
 }
@@ -242,13 +227,45 @@ static pg_status save_meta(const pg_planet *p, pg_planet_path_fn path_for, void 
     return pg_planet_write_json(j, PG_PLANET_META_NAME, path_for, user, err);
 }
 
+/* The files of a planet, written at once (docs/generate.md, "Performance"): every
+ * encoder (zlib inside PNG and the coordinate map's ZIP) is single-threaded, and each
+ * file is written by one thread from data no other thread writes, so the bytes are those
+ * of a serial run. The paths are taken first, in a fixed order, because path_for need
+ * not be thread-safe; the first failure in that order is reported. */
+enum { SAVE_SOURCE = PG_CUBE_NFACES, SAVE_HEIGHT, SAVE_JOBS };
+
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                          pg_error *err) {
-    pg_status st = save_albedo(p, path_for, user, err);
-    if (st == PG_OK) st = save_height(p, path_for, user, err);
-    if (st == PG_OK && pg_planet_has_source(p)) st = save_source(p, path_for, user, err);
-    if (st == PG_OK) st = save_meta(p, path_for, user, err);
-    return st;
+    char paths[SAVE_JOBS][4096];
+    bool has_source = pg_planet_has_source(p);
+    for (int j = 0; j < SAVE_JOBS; j++) {
+        char name[64];
+        if (j < PG_CUBE_NFACES)
+            pg_planet_albedo_name(j, name, sizeof name);
+        else
+            snprintf(name, sizeof name, "%s",
+                     j == SAVE_HEIGHT ? PG_PLANET_HEIGHT_NAME : SOURCE_NAME);
+        const char *path = j == SAVE_SOURCE && !has_source ? "" : path_for(name, user);
+        if (!path) return pg_error_set(err, PG_ERR_NOMEM, "out of memory");
+        snprintf(paths[j], sizeof paths[j], "%s", path);
+    }
+    pg_status sk[SAVE_JOBS];
+    pg_error e[SAVE_JOBS];
+    memset(e, 0, sizeof e);
+    /* the coordinate map first: its ZIP encoding is the longest job */
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < SAVE_JOBS; k++) {
+        int j = (k + SAVE_SOURCE) % SAVE_JOBS; /* source, height, then the faces */
+        if (j < PG_CUBE_NFACES)
+            sk[j] = save_albedo_face(p, j, paths[j], &e[j]);
+        else if (j == SAVE_HEIGHT)
+            sk[j] = save_height(p, paths[j], &e[j]);
+        else
+            sk[j] = has_source ? save_source(p, paths[j], &e[j]) : PG_OK;
+    }
+    for (int j = 0; j < SAVE_JOBS; j++)
+        if (sk[j] != PG_OK) return pg_error_set(err, sk[j], "%s", e[j].msg);
+    return save_meta(p, path_for, user, err);
 }
 
 const char *pg_planet_dir_path(const char *name, void *user) {

@@ -36,6 +36,7 @@
 /* ------------------------------------- context ------------------------------------- */
 
 static void ctx_free(pg_ps_ctx *c) {
+    free(c->own);
     free(c->bm.dst);
     free(c->bm.src);
     free(c->bm.orient);
@@ -52,7 +53,11 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
                           const pg_planet_synth_params *p, pg_planet_synth_info *info,
                           pg_error *err) {
     memset(c, 0, sizeof *c);
-    c->ex = ex;
+    c->ex = c->given = ex;
+    if (ex->map && (c->own = malloc(sizeof *c->own))) {
+        *c->own = *ex;
+        c->ex = c->own;
+    }
     c->p = p;
     c->T = p->tiles;
     c->m = pg_planet_synth_magnification(ex, p);
@@ -86,6 +91,28 @@ static pg_status prepare_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error
     if (!st) st = pg_ps_types_level(c, L->r, ts, err);
     if (!st) st = pg_ps_guide_level(c, L->r, err);
     return st;
+}
+
+/* A level read densely (at least one synthesized texel per 4 exemplar texels: the
+ * finest two of the default planet) gets its tables copied out of the mapped cache
+ * file for its duration; coarser levels touch few of their pages and read the mapping. */
+static pg_status hold_level(pg_ps_ctx *c, int scale, int r, pg_error *err) {
+    if (!c->own || 2 * (int64_t)r < c->ex->face_size) return PG_OK;
+    int16_t *app;
+    uint32_t *kcoh;
+    pg_status st = pg_synth_copy_level(c->given, scale, &app, &kcoh, err);
+    if (st || !app) return st;
+    c->own->app[scale] = app;
+    if (kcoh) c->own->kcoh[scale] = kcoh;
+    return PG_OK;
+}
+
+static void release_level(pg_ps_ctx *c, int scale) {
+    if (!c->own) return;
+    if (c->own->app[scale] != c->given->app[scale]) free(c->own->app[scale]);
+    if (c->own->kcoh[scale] != c->given->kcoh[scale]) free(c->own->kcoh[scale]);
+    c->own->app[scale] = c->given->app[scale];
+    c->own->kcoh[scale] = c->given->kcoh[scale];
 }
 
 static void progress(pg_ps_ctx *c, double units) {
@@ -144,7 +171,9 @@ static pg_status synthesize(pg_ps_ctx *c, pg_ps_level *out, pg_error *err) {
         st = prepare_level(c, s, &cur, err);
         if (!st) {
             pg_ps_jitter_level(c, s, &cur);
-            st = run_level(c, s, &cur, err);
+            st = hold_level(c, s, cur.r, err);
+            if (!st) st = run_level(c, s, &cur, err);
+            release_level(c, s);
         }
         c->info->level_seconds[c->info->nlevels++] = pg_synth_now() - t0;
     }

@@ -39,6 +39,10 @@ typedef struct pg_ps_border {
 /* The run's context: parameters resolved once, buffers that live for the whole run. */
 typedef struct pg_ps_ctx {
     const pg_synth_exemplar *ex;
+    /* an exemplar mapped from the cache: a shallow copy whose densely read levels point
+     * to private copies on huge pages while they are synthesized (pg_synth_copy_level) */
+    pg_synth_exemplar *own;
+    const pg_synth_exemplar *given;
     const pg_planet_synth_params *p;
     int T, S, s_top;
     int64_t N;    /* synthesized texels per face edge: Nout / m */

@@ -171,6 +171,59 @@ void pg_synth_jitter(const pg_synth_exemplar *ex, int scale, double r, uint64_t 
 
 static const int diag[ND][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
 
+/* Appearance vectors as 8 float lanes. With GCC or clang the lanes are a vector type
+ * (one AVX register in the AVX2 clone of correct_batch, two SSE registers otherwise), so
+ * the 8 int16 components are widened and converted in two instructions instead of 8
+ * scalar conversions; elsewhere they are a plain array. Every lane does the same IEEE
+ * operations in the same order as a scalar loop would (the build is ISO C, so nothing
+ * is contracted into a fused multiply-add), hence the same bits on any path. */
+#if defined(__GNUC__) || defined(__clang__)
+typedef float lanes __attribute__((vector_size(4 * PG_SYNTH_MAX_DIMS)));
+typedef int16_t lanes16 __attribute__((vector_size(2 * PG_SYNTH_MAX_DIMS)));
+#define LANE(v, i) ((v)[i])
+#define LANES_ADD(a, b) ((a) + (b))
+#define LANES_SUB(a, b) ((a) - (b))
+#define LANES_MUL(a, b) ((a) * (b))
+#define LANES_SCALE(a, s) ((a) * (s))
+/* (vectors travel through pointers: by value they would change the ABI of the
+ * non-AVX clone) */
+HOT void lanes_load(lanes *r, const int16_t *a) {
+    lanes16 q;
+    memcpy(&q, a, sizeof q);
+    *r = __builtin_convertvector(q, lanes);
+}
+#else
+typedef struct lanes {
+    float v[PG_SYNTH_MAX_DIMS];
+} lanes;
+#define LANE(x, i) ((x).v[i])
+#define LANES_ADD(a, b) lanes_op(a, b, 0)
+#define LANES_SUB(a, b) lanes_op(a, b, 1)
+#define LANES_MUL(a, b) lanes_op(a, b, 2)
+#define LANES_SCALE(a, s) lanes_op(a, lanes_splat(s), 2)
+HOT void lanes_load(lanes *r, const int16_t *a) {
+    for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+        r->v[i] = a[i];
+}
+HOT lanes lanes_splat(float s) {
+    lanes r;
+    for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+        r.v[i] = s;
+    return r;
+}
+HOT lanes lanes_op(lanes a, lanes b, int op) {
+    for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
+        a.v[i] = op == 0 ? a.v[i] + b.v[i] : op == 1 ? a.v[i] - b.v[i] : a.v[i] * b.v[i];
+    return a;
+}
+#endif
+
+/* The sum of the lanes in a fixed tree order. */
+static inline float lane_sum(const lanes *a) {
+    return ((LANE(*a, 0) + LANE(*a, 1)) + (LANE(*a, 2) + LANE(*a, 3))) +
+           ((LANE(*a, 4) + LANE(*a, 5)) + (LANE(*a, 6) + LANE(*a, 7)));
+}
+
 typedef struct corr_ctx {
     const pg_synth_exemplar *ex;
     const int16_t *A;
@@ -179,8 +232,8 @@ typedef struct corr_ctx {
     float m2q;   /* metres -> quantized appearance units of component 1 */
     float kappa; /* jump penalty factor - 1 */
     bool offsets;
-    float lambda;                  /* offset penalty */
-    float mask[PG_SYNTH_MAX_DIMS]; /* 1 for components 2..dims, else 0 */
+    float lambda; /* offset penalty */
+    lanes mask;   /* 1 for components 2..dims, else 0 */
 } corr_ctx;
 
 static inline const int16_t *app_at(const corr_ctx *c, uint32_t q) {
@@ -216,23 +269,20 @@ HOT uint32_t move_from(const corr_ctx *c, const nbhd *n, int ex, int ey, int ox,
     return pg_synth_with_orient(q, pg_synth_orient(q) + n->o[k]); /* into the view's frame */
 }
 
-/* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions. */
 /* Target neighbourhood N_S: 4 diagonal vectors, each the mean of 3 predictions whose
  * exemplar coordinates were computed (and prefetched) in tq. */
-HOT void target_nbhd(const corr_ctx *c, const nbhd *n, const uint32_t tq[ND][3],
-                     float ns[ND][PG_SYNTH_MAX_DIMS]) {
+HOT void target_nbhd(const corr_ctx *c, const nbhd *n, const uint32_t tq[ND][3], lanes ns[ND]) {
     for (int d = 0; d < ND; d++) {
         const int Dx = diag[d][0], Dy = diag[d][1];
         const int vk[3] = {(Dy + 1) * 3 + (Dx + 1), 3 + (Dx + 1), (Dy + 1) * 3 + 1};
-        float acc[PG_SYNTH_MAX_DIMS] = {0};
+        lanes acc = {0};
         for (int j = 0; j < 3; j++) {
-            const int16_t *a = app_at(c, tq[d][j]);
-            for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
-                acc[i] += a[i];
-            acc[0] += n->V[vk[j]] * c->m2q;
+            lanes a;
+            lanes_load(&a, app_at(c, tq[d][j]));
+            acc = LANES_ADD(acc, a);
+            LANE(acc, 0) += n->V[vk[j]] * c->m2q;
         }
-        for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
-            ns[d][i] = acc[i] * (1.0f / 3.0f);
+        ns[d] = LANES_SCALE(acc, 1.0f / 3.0f);
     }
 }
 typedef struct cand_list {
@@ -266,29 +316,26 @@ HOT void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l
             add_cand(l, kc[j] | ob, 1.0f + c->kappa);
     }
 }
-static inline float lane_sum(const float *acc) {
-    return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
-}
-
 /* Distance of candidate q to the target (times its penalty pen), with its best height
  * offset in *hoff. Returns +inf as soon as the partial sum shows it cannot be < limit:
  * the lanes only grow, the height term is >= 0 and pen > 0, so the skip is exact, and
  * it saves the random reads of the remaining diagonals of hopeless candidates. */
-HOT float cand_dist(const corr_ctx *c, const float ns[ND][PG_SYNTH_MAX_DIMS], const uint32_t dq[ND],
-                    float pen, float limit, float *hoff) {
-    /* fixed 8-lane loops (component 1 and unused components masked out) vectorise */
-    float d1[ND], acc[PG_SYNTH_MAX_DIMS] = {0}, mean = 0;
+HOT float cand_dist(const corr_ctx *c, const lanes ns[ND], const uint32_t dq[ND], float pen,
+                    float limit, float *hoff) {
+    /* 8-lane distances, component 1 and unused components masked out */
+    float d1[ND], mean = 0;
+    lanes acc = {0};
     for (int d = 0; d < ND; d++) {
-        const int16_t *a = c->A + (size_t)dq[d] * PG_SYNTH_MAX_DIMS;
-        d1[d] = ns[d][0] - a[0];
+        lanes a;
+        lanes_load(&a, c->A + (size_t)dq[d] * PG_SYNTH_MAX_DIMS);
+        lanes diff = LANES_SUB(ns[d], a);
+        d1[d] = LANE(diff, 0);
         mean += d1[d];
-        for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++) {
-            float t = (ns[d][i] - (float)a[i]) * c->mask[i];
-            acc[i] += t * t;
-        }
-        if (d < ND - 1 && lane_sum(acc) * pen >= limit) return INFINITY;
+        lanes t = LANES_MUL(diff, c->mask);
+        acc = LANES_ADD(acc, LANES_MUL(t, t));
+        if (d < ND - 1 && lane_sum(&acc) * pen >= limit) return INFINITY;
     }
-    float rest = lane_sum(acc);
+    float rest = lane_sum(&acc);
     /* argmin over h of sum (d1 - h)^2 + lambda ND h^2 is mean(d1) / (1 + lambda) */
     mean = c->offsets ? mean * (1.0f / ND) / (1.0f + c->lambda) : 0.0f;
     float first = c->lambda * ND * mean * mean;
@@ -313,7 +360,7 @@ typedef struct texel_work {
     nbhd n;
     uint32_t tq[ND][3]; /* coordinates of the 12 target predictions */
     uint32_t q0[9];     /* coherent candidates, incumbent first */
-    float ns[ND][PG_SYNTH_MAX_DIMS];
+    lanes ns[ND];
     cand_list l;
     uint32_t dq[NCAND_MAX][ND]; /* texel indices of each candidate's diagonals */
 } texel_work;
@@ -396,7 +443,7 @@ void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_s
                   .offsets = p->height_offsets,
                   .lambda = (float)p->offset_penalty};
     for (int i = 0; i < PG_SYNTH_MAX_DIMS; i++)
-        c.mask[i] = i >= 1 && i < ex->dims ? 1.0f : 0.0f;
+        LANE(c.mask, i) = i >= 1 && i < ex->dims ? 1.0f : 0.0f;
     const int px = parity & 1, py = parity >> 1;
 #pragma omp parallel for schedule(dynamic, 4) if (v->w * v->h >= 16384)
     for (int y = 0; y < v->h; y++) {

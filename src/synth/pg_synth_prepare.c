@@ -15,6 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 double pg_synth_now(void) {
     struct timespec ts;
@@ -89,8 +90,8 @@ static uint64_t make_key(const float *albedo, const float *height, int w, int h,
     double dbl[3] = {p->min_separation, p->height_weight, sea};
     k = pg_synth_hash_bytes(k, ints, sizeof ints);
     k = pg_synth_hash_bytes(k, dbl, sizeof dbl);
-    k = pg_synth_hash_bytes(k, albedo, (size_t)w * h * 3 * sizeof(float));
-    k = pg_synth_hash_bytes(k, height, (size_t)w * h * sizeof(float));
+    if (albedo) k = pg_synth_hash_bytes(k, albedo, (size_t)w * h * 3 * sizeof(float));
+    if (height) k = pg_synth_hash_bytes(k, height, (size_t)w * h * sizeof(float));
     return k;
 }
 
@@ -206,6 +207,65 @@ static pg_status prepare(const float *albedo, const float *height, int w, int h,
     info->bytes = exemplar_bytes(ex);
     *out = ex;
     return PG_OK;
+}
+
+/* ---- the index from source fingerprints to content keys ---- */
+
+#define INDEX_MAGIC "PGSRCIX\x01"
+
+static bool cache_dir_of(const char *cache_dir, char *dir, size_t size) {
+    if (!cache_dir)
+        pg_synth_default_cache_dir(dir, size);
+    else
+        snprintf(dir, size, "%s", cache_dir);
+    return dir[0] != 0;
+}
+
+/* The index file of a source fingerprint under parameters p. */
+static void index_path(char *buf, size_t size, const char *dir, uint64_t source_fp,
+                       const pg_synth_exemplar_params *p) {
+    uint64_t k = make_key(NULL, NULL, 0, 0, 0, p, 0);
+    k = pg_synth_hash_bytes(k, &source_fp, sizeof source_fp);
+    snprintf(buf, size, "%s/sources-%016llx.idx", dir, (unsigned long long)k);
+}
+
+pg_status pg_synth_lookup_exemplar(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                                   const char *cache_dir, pg_synth_exemplar **out,
+                                   pg_synth_prep_info *info, pg_error *err) {
+    double t0 = pg_synth_now();
+    memset(info, 0, sizeof *info);
+    *out = NULL;
+    pg_status st = check_params(p, err);
+    char dir[480], idx[560];
+    if (st || !cache_dir_of(cache_dir, dir, sizeof dir)) return st;
+    index_path(idx, sizeof idx, dir, source_fp, p);
+    FILE *f = fopen(idx, "rb");
+    char magic[8];
+    uint64_t key = 0;
+    bool ok = f && fread(magic, 8, 1, f) == 1 && !memcmp(magic, INDEX_MAGIC, 8) &&
+              fread(&key, sizeof key, 1, f) == 1;
+    if (f) fclose(f);
+    if (!ok) return PG_OK; /* a miss */
+    snprintf(info->cache_path, sizeof info->cache_path, "%s/exemplar-%016llx.pgsx", dir,
+             (unsigned long long)key);
+    st = pg_synth_cache_load(info->cache_path, key, out, err);
+    if (st || !*out) return st;
+    info->from_cache = true;
+    info->seconds = pg_synth_now() - t0;
+    info->bytes = exemplar_bytes(*out);
+    return PG_OK;
+}
+
+void pg_synth_remember_sources(uint64_t source_fp, const pg_synth_exemplar_params *p,
+                               const char *cache_dir, const pg_synth_exemplar *ex) {
+    char dir[480], idx[560], tmp[600];
+    if (!cache_dir_of(cache_dir, dir, sizeof dir)) return;
+    index_path(idx, sizeof idx, dir, source_fp, p);
+    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", idx, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f) return; /* caching is an optimisation: never fatal */
+    bool bad = fwrite(INDEX_MAGIC, 8, 1, f) != 1 || fwrite(&ex->key, sizeof ex->key, 1, f) != 1;
+    if (fclose(f) != 0 || bad || rename(tmp, idx) != 0) remove(tmp);
 }
 
 pg_status pg_synth_prepare_exemplar(const float *albedo, const float *height, int width,
