@@ -212,6 +212,10 @@ void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const
     cube_sample_g(g, faces, ch, dir, out);
 }
 
+void pg_cube_sample_grid_init(pg_cube_grid *g, pg_cube_projection p, int64_t n) {
+    pg_cube_grid_init_faces(g, p, n);
+}
+
 void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, const double dir[3],
                     float *out) {
     pg_cube_grid g;

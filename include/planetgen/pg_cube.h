@@ -228,6 +228,9 @@ void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, 
  * call, which costs more than the sample in a loop over millions of directions. */
 void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
                          float *out);
+/* A grid for pg_cube_sample_grid over a field of any n texels per face edge (one tile a
+ * face; n need not be a power of two, as pg_cube_grid_init asks). */
+void pg_cube_sample_grid_init(pg_cube_grid *g, pg_cube_projection p, int64_t n);
 
 /* Solid angle (steradians) of the spherical triangle of unit vectors a, b, c (Van
  * Oosterom & Strackee 1983): texel areas on the unit sphere, two triangles a texel. */

@@ -120,15 +120,14 @@ static void texel_dir(pg_cube_projection proj, int64_t n, int64_t id, double dir
     pg_cube_to_dir(proj, (int)face, u, v, dir);
 }
 
-static void eval_texel(const pg_climate_params *p, pg_cube_projection proj, int64_t n,
-                       const float *elev, const float *mask, const double *insol, int64_t id,
-                       pg_climate *c) {
+static void eval_texel(const pg_climate_params *p, const pg_cube_grid *g, const float *elev,
+                       const float *mask, const double *insol, int64_t id, pg_climate *c) {
     double dir[3];
-    texel_dir(proj, n, id, dir);
+    texel_dir(g->proj, g->n, id, dir);
     double lat = asin(fmax(-1.0, fmin(1.0, dir[2]))) * 180.0 / M_PI;
     float h = elev[id];
     pg_climate_march_result mr = {1.0f, 1.0f, 0.0f};
-    if (h > 0.0f) pg_climate_march(p, proj, n, elev, mask, dir, h, &mr);
+    if (h > 0.0f) pg_climate_march(p, g, elev, mask, dir, h, &mr);
     double q = table_lookup(insol, lat);
     double cooling = p->lapse_rate_K_per_km * fmax((double)h, 0.0) / 1000.0;
     double cont = 1.0 - mr.maritime;
@@ -155,6 +154,8 @@ pg_status pg_climate_compute(const pg_climate_params *p, pg_cube_projection proj
     if (!elevation_m) return pg_error_set(err, PG_ERR_BADINPUT, "climate: elevation is NULL");
     pg_status st = check_params(p, err);
     if (st) return st;
+    pg_cube_grid g; /* the seam maps of the march's samples, built once */
+    pg_cube_sample_grid_init(&g, proj, n);
     int64_t total = 6 * n * n;
     for (int64_t i = 0; i < total; i++)
         if (!isfinite(elevation_m[i]))
@@ -186,7 +187,7 @@ pg_status pg_climate_compute(const pg_climate_params *p, pg_cube_projection proj
         mask[id] = elevation_m[id] > 0.0f ? 1.0f : 0.0f;
 #pragma omp parallel for schedule(dynamic, 256)
     for (int64_t id = 0; id < total; id++)
-        eval_texel(p, proj, n, elevation_m, mask, insol, id, c);
+        eval_texel(p, &g, elevation_m, mask, insol, id, c);
     free(insol);
     free(mask);
     return PG_OK;

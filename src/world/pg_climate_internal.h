@@ -20,9 +20,10 @@ void pg_climate_wind(double lat_deg, double *east, double *north);
  * elevation cube field (land_mask: 1 on land, 0 on sea, the same layout; the sea is
  * where its bilinear sample is below 1/2, so the coastline does not move when the
  * land is raised) and integrate the moisture and maritime influence back
- * downwind. Pure function of its arguments. */
-void pg_climate_march(const pg_climate_params *p, pg_cube_projection proj, int64_t n,
-                      const float *elevation_m, const float *land_mask, const double dir[3],
-                      float h0, pg_climate_march_result *out);
+ * downwind. g is the field's grid (pg_cube_sample_grid_init), its seam maps
+ * built once by the caller. Pure function of its arguments. */
+void pg_climate_march(const pg_climate_params *p, const pg_cube_grid *g, const float *elevation_m,
+                      const float *land_mask, const double dir[3], float h0,
+                      pg_climate_march_result *out);
 
 #endif

@@ -12,7 +12,7 @@
  *
  * The march. From the texel's direction, step backwards against the local wind by a
  * fixed angle (half a texel), re-evaluating the wind at every point, sampling the
- * elevation bilinearly (pg_cube_sample, seamless across faces). It stops after a long
+ * elevation bilinearly (pg_cube_sample_grid, seamless across faces). It stops after a long
  * stretch of open sea (where the air is saturated: recharge has converged to within
  * e^-3) or at max_fetch_km. Then the column is integrated downwind, starting
  * saturated: over the sea moisture relaxes towards 1 over sea_recharge_km; over land
@@ -71,12 +71,12 @@ static void step_upwind(double p[3], double step) {
         p[k] = q[k] / len;
 }
 
-void pg_climate_march(const pg_climate_params *p, pg_cube_projection proj, int64_t n,
-                      const float *elevation_m, const float *land_mask, const double dir[3],
-                      float h0, pg_climate_march_result *out) {
+void pg_climate_march(const pg_climate_params *p, const pg_cube_grid *g, const float *elevation_m,
+                      const float *land_mask, const double dir[3], float h0,
+                      pg_climate_march_result *out) {
     float h[PG_MARCH_MAX_STEPS + 1];
     unsigned char land[PG_MARCH_MAX_STEPS + 1];
-    double step = 0.25 * M_PI / (double)n; /* half a texel at the face centre */
+    double step = 0.25 * M_PI / (double)g->n; /* half a texel at the face centre */
     double step_km = step * p->planet_radius_km;
     int max_steps = (int)ceil(p->max_fetch_km / step_km);
     if (max_steps > PG_MARCH_MAX_STEPS) { /* a very fine grid: lengthen the step */
@@ -93,8 +93,8 @@ void pg_climate_march(const pg_climate_params *p, pg_cube_projection proj, int64
         step_upwind(q, step);
         k++;
         float lm;
-        pg_cube_sample(proj, n, elevation_m, 1, q, &h[k]);
-        pg_cube_sample(proj, n, land_mask, 1, q, &lm);
+        pg_cube_sample_grid(g, elevation_m, 1, q, &h[k]);
+        pg_cube_sample_grid(g, land_mask, 1, q, &lm);
         land[k] = lm >= 0.5f;
         sea_run = land[k] ? 0.0 : sea_run + step_km;
     }
