@@ -6,6 +6,7 @@
 #include "pg_test.h"
 #include "pits_checker.h"
 #include "planetgen/pg_pits.h"
+#include "pg_pits_internal.h"
 
 #include <omp.h>
 #include <stdio.h>
@@ -354,20 +355,28 @@ static void check_stats_reference(const chk_graph *g, const pg_pits_topo *t, con
     free(sk);
 }
 
+/* A random grid of 1..30 cells a side with its topology and the options the
+ * statistics tests use (sinks from the seed, hybrid limits 6 and 5). */
+static float *random_case(uint32_t seed, int *w, int *h, pg_pits_topo *t, pg_pits_opts *o) {
+    *w = 1 + (int)(hash32(seed, 1) % 30);
+    *h = 1 + (int)(hash32(seed, 2) % 30);
+    pg_pits_topo_grid(t, (uint32_t)*w, (uint32_t)*h, NULL);
+    pg_pits_opts_default(o);
+    set_sinks(o, seed);
+    o->max_depth = 6;
+    o->max_length = 5;
+    return random_dem(seed, *w, *h);
+}
+
 static void test_stats_reference(void **state) {
     (void)state;
     uint64_t with_depressions = 0, after_zero = 0;
     for (uint32_t seed = 200; seed < 240; seed++) {
-        int w = 1 + (int)(hash32(seed, 1) % 30), h = 1 + (int)(hash32(seed, 2) % 30);
-        float *dem = random_dem(seed, w, h);
-        chk_graph g = chk_grid_graph(w, h);
+        int w, h;
         pg_pits_topo t;
-        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
         pg_pits_opts o;
-        pg_pits_opts_default(&o);
-        set_sinks(&o, seed);
-        o.max_depth = 6;
-        o.max_length = 5;
+        float *dem = random_case(seed, &w, &h, &t, &o);
+        chk_graph g = chk_grid_graph(w, h);
         check_stats_reference(&g, &t, dem, &o, w, h);
         pg_pits_stats st;
         pg_pits_stats_compute(&t, dem, &o, NULL, &st, NULL);
@@ -393,6 +402,133 @@ static void test_stats_reference(void **state) {
     }
     assert_true(with_depressions > 20); /* the reference was not only zeros */
     assert_true(after_zero > 300);      /* and the no-depression path ran */
+}
+
+static void assert_same_stats(const pg_pits_stats *a, const pg_pits_stats *b) {
+    assert_int_equal(a->depressions, b->depressions);
+    assert_int_equal(a->depression_cells, b->depression_cells);
+    assert_true(a->depression_area_m2 == b->depression_area_m2);
+    assert_true(a->depression_volume_m3 == b->depression_volume_m3);
+    assert_true(a->max_depth_m == b->max_depth_m);
+    assert_int_equal(a->sinks, b->sinks);
+}
+
+/* The removal with its counts: the same bytes as pg_pits_remove, the same figures
+ * (exactly: the sums run in the same order) as counting the input and the result on
+ * their own, for every variant, with and without no-data cells. */
+static void test_remove_counted(void **state) {
+    (void)state;
+    uint64_t with_depressions = 0;
+    for (uint32_t seed = 300; seed < 340; seed++) {
+        int w, h;
+        pg_pits_topo t;
+        pg_pits_opts o;
+        float *dem = random_case(seed, &w, &h, &t, &o);
+        size_t n = (size_t)w * h;
+        if (seed % 5 == 3) { /* a no-data cell */
+            o.has_nodata = true;
+            o.nodata = -9999.0f;
+            dem[hash32(seed, 3) % n] = -9999.0f;
+        }
+        float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
+        for (size_t v = 0; v < sizeof VARIANTS / sizeof *VARIANTS; v++) {
+            o.method = VARIANTS[v].m;
+            o.epsilon = VARIANTS[v].eps;
+            o.descent = VARIANTS[v].descent;
+            memcpy(a, dem, sizeof(float) * n);
+            memcpy(b, dem, sizeof(float) * n);
+            pg_pits_result ra, rb;
+            assert_int_equal(pg_pits_remove(&t, a, &o, &ra, NULL), PG_OK);
+            pg_pits_stats before, after, ref;
+            assert_int_equal(pg_pits_remove_counted(&t, b, &o, NULL, &rb, &before, &after, NULL),
+                             PG_OK);
+            assert_memory_equal(a, b, sizeof(float) * n);
+            assert_int_equal(ra.raised, rb.raised);
+            assert_int_equal(ra.lowered, rb.lowered);
+            assert_int_equal(ra.sinks, rb.sinks);
+            assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
+            assert_same_stats(&before, &ref);
+            with_depressions += ref.depressions > 0;
+            assert_int_equal(pg_pits_stats_compute(&t, a, &o, NULL, &ref, NULL), PG_OK);
+            assert_same_stats(&after, &ref);
+        }
+        free(a);
+        free(b);
+        free(dem);
+    }
+    assert_true(with_depressions > 100);
+}
+
+/* The certificate that spares the count after a removal: whenever it holds, the
+ * grid has no depression (raw grids with depressions must fail it); it holds on every
+ * epsilon result, and on a plain fill with the epsilon-surface as the potential. */
+static void test_drain_certificate(void **state) {
+    (void)state;
+    uint64_t refused = 0, plain_ok = 0, plain = 0;
+    for (uint32_t seed = 400; seed < 460; seed++) {
+        int w = 1 + (int)(hash32(seed, 1) % 30), h = 1 + (int)(hash32(seed, 2) % 30);
+        size_t n = (size_t)w * h;
+        float *dem = random_dem(seed, w, h), *out = malloc(sizeof(float) * n),
+              *eps = malloc(sizeof(float) * n);
+        pg_pits_topo t;
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        set_sinks(&o, seed);
+        o.method = PG_PITS_FILL;
+        memcpy(eps, dem, sizeof(float) * n);
+        assert_int_equal(pg_pits_remove(&t, eps, &o, NULL, NULL), PG_OK);
+        for (size_t v = 0; v <= sizeof VARIANTS / sizeof *VARIANTS; v++) {
+            memcpy(out, dem, sizeof(float) * n); /* v == count: the raw grid */
+            if (v < sizeof VARIANTS / sizeof *VARIANTS) {
+                o.method = VARIANTS[v].m;
+                o.epsilon = VARIANTS[v].eps;
+                o.descent = VARIANTS[v].descent;
+                assert_int_equal(pg_pits_remove(&t, out, &o, NULL, NULL), PG_OK);
+            }
+            pg_pits_stats st;
+            assert_int_equal(pg_pits_stats_compute(&t, out, &o, NULL, &st, NULL), PG_OK);
+            float *c = malloc(sizeof(float) * n);
+            memcpy(c, out, sizeof(float) * n);
+            uint8_t *sk = NULL;
+            uint64_t ns = 0;
+            assert_int_equal(pits_begin(&t, c, &o, &sk, NULL, &ns, NULL), PG_OK);
+            int by_self = pits_drains_by(&t, c, sk, c);
+            int by_eps = pits_drains_by(&t, c, sk, eps);
+            if (by_self || by_eps) assert_int_equal(st.depressions, 0);
+            if (st.depressions) refused++;
+            /* (with the lowest cell as the only sink, carving may move it) */
+            if (v < sizeof VARIANTS / sizeof *VARIANTS && VARIANTS[v].eps &&
+                (o.has_sea_level || o.open_edges))
+                assert_true(by_self);
+            if (v < sizeof VARIANTS / sizeof *VARIANTS && !VARIANTS[v].eps &&
+                VARIANTS[v].m == PG_PITS_FILL)
+                plain++, plain_ok += by_eps;
+            free(sk);
+            free(c);
+        }
+        free(out);
+        free(eps);
+        free(dem);
+    }
+    /* a flat pit (2 x 2 cells at 1 inside a plateau at 10) is a depression, though
+     * each of its cells has a neighbour no higher */
+    float flat[36];
+    for (int i = 0; i < 36; i++)
+        flat[i] = 10.0f;
+    flat[14] = flat[15] = flat[20] = flat[21] = 1.0f;
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, 6, 6, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.open_edges = true;
+    uint8_t *sk = NULL;
+    uint64_t ns = 0;
+    assert_int_equal(pits_begin(&t, flat, &o, &sk, NULL, &ns, NULL), PG_OK);
+    assert_false(pits_drains_by(&t, flat, sk, flat));
+    free(sk);
+    assert_true(refused > 30);      /* grids with depressions were offered */
+    assert_true(plain_ok == plain); /* the plain fill's count needs no search here */
 }
 
 /* No-data cells: refused without a stated value; with one, left alone as outlets. */
@@ -437,6 +573,7 @@ int main(void) {
         cmocka_unit_test(test_hybrid_limits),     cmocka_unit_test(test_hybrid_length_limit),
         cmocka_unit_test(test_thread_invariance), cmocka_unit_test(test_stats),
         cmocka_unit_test(test_stats_reference),   cmocka_unit_test(test_bad_input_and_nodata),
+        cmocka_unit_test(test_remove_counted),    cmocka_unit_test(test_drain_certificate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -195,6 +195,16 @@ double pg_pits_cube_area_fn(void *ctx, uint32_t id);
 pg_status pg_pits_stats_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                                 const pg_pits_area *area, pg_pits_stats *st, pg_error *err);
 
+/* pg_pits_remove, and the depressions of h before (the input) and after (the result):
+ * the same figures as pg_pits_stats_compute on each, at a fraction of the cost,
+ * because the removal's own flood gives one of the two fills the count needs (a plain
+ * fill is the minimal fill, an epsilon fill and the descent tree compute the
+ * epsilon-surface) and the result is checked by a linear certificate instead of a
+ * search (docs/pits.md, "Metrics"). area as in pg_pits_stats_compute; res may be NULL. */
+pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                 const pg_pits_area *area, pg_pits_result *res,
+                                 pg_pits_stats *before, pg_pits_stats *after, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

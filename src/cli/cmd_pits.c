@@ -452,22 +452,15 @@ static int run_remove(pg_cli *cli, const pits_args *a, const char *in) {
     pg_pits_topo t;
     if (!s) s = pg_pits_topo_grid(&t, (uint32_t)img->width, (uint32_t)img->height, &err);
     pg_pits_stats before, after;
-    if (!s && !a->no_stats) {
-        pg_cli_stage_begin(cli, "count depressions before");
-        s = pg_pits_stats_compute(&t, img->data, &o, &area, &before, &err);
-        pg_cli_stage_end(cli);
-    }
     pg_pits_result res;
     if (!s) {
         pg_cli_verbose(cli, "method: %s%s\n", pg_pits_method_citation(o.method),
                        o.epsilon ? " (epsilon: strictly descending, no flats)" : "");
-        pg_cli_stage_begin(cli, "remove pits");
-        s = pg_pits_remove(&t, img->data, &o, &res, &err);
-        pg_cli_stage_end(cli);
-    }
-    if (!s && !a->no_stats) {
-        pg_cli_stage_begin(cli, "count depressions after");
-        s = pg_pits_stats_compute(&t, img->data, &o, &area, &after, &err);
+        /* the counts reuse the removal's own floods (docs/pits.md, "Metrics") */
+        pg_cli_stage_begin(cli, a->no_stats ? "remove pits" : "remove pits and count depressions");
+        s = a->no_stats
+                ? pg_pits_remove(&t, img->data, &o, &res, &err)
+                : pg_pits_remove_counted(&t, img->data, &o, &area, &res, &before, &after, &err);
         pg_cli_stage_end(cli);
     }
     if (!s) {

@@ -58,10 +58,10 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
             return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
-        if (o->descent) return pits_breach_descent(t, h, o, res, err);
+        if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);
         return pits_breach_soille2004(t, h, o, res, err);
     case PG_PITS_HYBRID:
-        if (o->descent) return pits_breach_descent(t, h, o, res, err);
+        if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);
         return pits_hybrid_lindsay2016(t, h, o, res, err);
     }
     return pg_error_set(err, PG_ERR_BADINPUT, "pits: unknown method %d", (int)o->method);
@@ -130,5 +130,75 @@ pg_status pg_pits_correct_offsets(const pg_pits_topo *t, const float *recon, flo
         }
     }
     free(r);
+    return s;
+}
+
+/* The minimal fill (eps 0) or epsilon-fill (eps 1) of h into out. */
+static pg_status fill_of(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, int eps,
+                         float *out, pg_error *err) {
+    pg_pits_opts f = *o;
+    f.method = PG_PITS_FILL;
+    f.epsilon = eps;
+    pg_pits_result r = {0};
+    memcpy(out, h, t->ncells * sizeof *out);
+    return dispatch(t, out, &f, &r, err);
+}
+
+/* The depression counts of the result: 0 when the certificate of pits_drains_by holds
+ * (p: the result itself, or for a plain fill the epsilon-surface of its input), else
+ * the full count. */
+static pg_status count_after(const pg_pits_topo *t, float *h, const pg_pits_opts *o, const float *p,
+                             const pg_pits_area *area, pg_pits_stats *after, pg_error *err) {
+    uint8_t *st = NULL;
+    uint64_t nsinks = 0;
+    pg_status s = pits_begin(t, h, o, &st, NULL, &nsinks, err); /* no-data: -inf for now */
+    if (s) return s;
+    int ok = pits_drains_by(t, h, st, p ? p : h);
+    pits_end(t, h, o, st);
+    free(st);
+    if (!ok) return pg_pits_stats_compute(t, h, o, area, after, err);
+    memset(after, 0, sizeof *after);
+    after->sinks = nsinks;
+    return PG_OK;
+}
+
+pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                 const pg_pits_area *area, pg_pits_result *res,
+                                 pg_pits_stats *before, pg_pits_stats *after, pg_error *err) {
+    pg_status s = pits_validate(t, o, err);
+    if (s) return s;
+    const size_t n = t->ncells;
+    const int plain_fill = o->method == PG_PITS_FILL && !o->epsilon;
+    const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
+    const int descent = o->method != PG_PITS_FILL && o->descent;
+    float *in = malloc(n * sizeof *in), *w = NULL, *fill = NULL;
+    if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
+    memcpy(in, h, n * sizeof *in);
+    if (plain_fill || descent) w = malloc(n * sizeof *w);
+    if (eps_fill || descent) fill = malloc(n * sizeof *fill);
+    if ((plain_fill || descent) && !w) s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
+    if (!s && (eps_fill || descent) && !fill)
+        s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
+    pg_pits_result local = {0};
+    /* the removal, keeping what its floods computed about the input: a plain fill is
+     * the input's minimal fill, an epsilon fill its epsilon-surface, the descent tree
+     * is built on that surface */
+    if (!s)
+        s = descent ? pits_breach_descent(t, h, o, &local, err, w) : dispatch(t, h, o, &local, err);
+    if (!s) summarise(t, in, h, &local);
+    /* the other surface comes from its own flood; the other methods count as
+     * pg_pits_stats_compute does */
+    if (!s && plain_fill) s = fill_of(t, in, o, 1, w, err);
+    if (!s && (eps_fill || descent)) s = fill_of(t, in, o, 0, fill, err);
+    if (!s && (plain_fill || eps_fill || descent))
+        s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,
+                                  before, err);
+    else if (!s)
+        s = pg_pits_stats_compute(t, in, o, area, before, err);
+    free(in);
+    free(fill);
+    if (!s) s = count_after(t, h, o, plain_fill ? w : NULL, area, after, err);
+    free(w);
+    if (!s && res) *res = local;
     return s;
 }

@@ -20,37 +20,40 @@ static double cell_area(const pg_pits_area *a, uint32_t id) {
     return a->constant;
 }
 
-typedef struct region_scan {
-    const pg_pits_topo *t;
-    const float *h, *fill, *efill;
-    const pg_pits_area *area;
-    uint8_t *seen;
-    uint32_t *queue;
-} region_scan;
-
-/* Flood one depression from cell s; adds its figures to st. */
-static void scan_region(region_scan *r, uint32_t s, pg_pits_stats *st) {
-    size_t head = 0, tail = 0;
+/* Flood one depression from cell s through the cells with dep[] == 1 (marking them 2);
+ * adds its figures to st. Cells in id order of their region's first cell, breadth
+ * first within a region: the sums are added in the same order whoever built dep. */
+static void scan_region(const pg_pits_topo *t, const float *h, const float *efill,
+                        const pg_pits_area *area, uint8_t *dep, pits_fifo *q, uint32_t s,
+                        pg_pits_stats *st) {
     uint32_t nb[8];
-    r->queue[tail++] = s;
-    r->seen[s] = 1;
-    while (head < tail) {
-        uint32_t c = r->queue[head++];
-        double a = cell_area(r->area, c), d = (double)r->efill[c] - (double)r->h[c];
+    pits_fifo_push(q, s);
+    dep[s] = 2;
+    while (!pits_fifo_empty(q) && !q->oom) {
+        uint32_t c = pits_fifo_pop(q);
+        double a = cell_area(area, c), d = (double)efill[c] - (double)h[c];
         st->depression_cells++;
         st->depression_area_m2 += a;
         st->depression_volume_m3 += d * a;
         if (d > st->max_depth_m) st->max_depth_m = d;
-        int k = pg_pits_neighbours(r->t, c, nb);
-        for (int j = 0; j < k; j++) {
-            uint32_t n = nb[j];
-            if (!r->seen[n] && r->fill[n] > r->h[n]) {
-                r->seen[n] = 1;
-                r->queue[tail++] = n;
+        int k = pg_pits_neighbours(t, c, nb);
+        for (int j = 0; j < k; j++)
+            if (dep[nb[j]] == 1) {
+                dep[nb[j]] = 2;
+                pits_fifo_push(q, nb[j]);
             }
-        }
     }
     st->depressions++;
+}
+
+int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, const float *efill,
+                       const pg_pits_area *area, pg_pits_stats *st) {
+    pits_fifo q = {0};
+    for (uint64_t i = 0; i < t->ncells && !q.oom; i++)
+        if (dep[i] == 1) scan_region(t, h, efill, area, dep, &q, (uint32_t)i, st);
+    int oom = q.oom;
+    pits_fifo_free(&q);
+    return oom;
 }
 
 pg_status pg_pits_cube_face_areas(pg_cube_projection p, uint32_t n, double radius, double *areas,
@@ -166,27 +169,60 @@ static pg_status no_depression(const pg_pits_topo *t, const float *h, const pg_p
     return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics") : PG_OK;
 }
 
+/* A certificate that h has no depression, checked cell by cell: if every OPEN cell has
+ * a neighbour that is not OPEN (a sink: water leaves there), or whose p is strictly
+ * lower and whose h is not higher, then from any cell a walk along such neighbours
+ * strictly lowers p, so it ends, and only at a sink; h never rises on the way, so
+ * the minimal fill raises no cell. With p = h this is "every cell has a strictly lower
+ * neighbour", what an epsilon result has everywhere; with p the epsilon-surface of a
+ * plain fill's input it covers the fill's flats. A false answer proves nothing (the
+ * caller then counts); a true one is exact. Linear, parallel, no queue. */
+int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p) {
+    int64_t bad = 0;
+    const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++) {
+        if (st[i] != PITS_OPEN) continue;
+        uint32_t nb[8];
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb), ok = 0;
+        for (int j = 0; j < k && !ok; j++)
+            ok = st[nb[j]] != PITS_OPEN || (p[nb[j]] < p[i] && h[nb[j]] <= h[i]);
+        bad += !ok;
+    }
+    return bad == 0;
+}
+
+/* dep[i] = 1 where the minimal fill raises cell i, else 0 (no-data cells are equal). */
+static void mark_raised(uint64_t n, const float *h, const float *fill, uint8_t *dep) {
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < (int64_t)n; i++)
+        dep[i] = fill[i] > h[i];
+}
+
+pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const float *fill,
+                                const float *efill, const pg_pits_area *area, uint64_t nsinks,
+                                pg_pits_stats *st, pg_error *err) {
+    memset(st, 0, sizeof *st);
+    st->sinks = nsinks;
+    uint8_t *dep = malloc(t->ncells);
+    if (!dep) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
+    mark_raised(t->ncells, h, fill, dep);
+    int oom = pits_count_regions(t, h, dep, efill, area, st);
+    free(dep);
+    return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics") : PG_OK;
+}
+
 pg_status pg_pits_stats_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                                 const pg_pits_area *area, pg_pits_stats *st, pg_error *err) {
     memset(st, 0, sizeof *st);
     int none = 0;
     pg_status s0 = no_depression(t, h, o, &none, &st->sinks, err);
     if (s0 || none) return s0;
-    st->sinks = 0;
+    uint64_t nsinks = 0;
     float *fill = NULL, *efill = NULL;
-    pg_status s = both_fills(t, h, o, &fill, &efill, &st->sinks, err);
-    region_scan r = {t, h, fill, efill, area, NULL, NULL};
-    if (!s) {
-        r.seen = calloc(t->ncells, 1);
-        r.queue = malloc(t->ncells * sizeof *r.queue);
-        if (!r.seen || !r.queue)
-            s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
-    }
-    for (uint64_t i = 0; !s && i < t->ncells; i++)
-        if (!r.seen[i] && fill[i] > h[i]) scan_region(&r, (uint32_t)i, st);
+    pg_status s = both_fills(t, h, o, &fill, &efill, &nsinks, err);
+    if (!s) s = pits_stats_from_fills(t, h, fill, efill, area, nsinks, st, err);
     free(fill);
     free(efill);
-    free(r.seen);
-    free(r.queue);
     return s;
 }
