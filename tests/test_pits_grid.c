@@ -502,8 +502,15 @@ static void test_drain_certificate(void **state) {
                 (o.has_sea_level || o.open_edges))
                 assert_true(by_self);
             if (v < sizeof VARIANTS / sizeof *VARIANTS && !VARIANTS[v].eps &&
-                VARIANTS[v].m == PG_PITS_FILL)
+                VARIANTS[v].m == PG_PITS_FILL) {
                 plain++, plain_ok += by_eps;
+                /* the epsilon-surface from the fill's flats: exact, no flood */
+                float *wf = malloc(sizeof(float) * n);
+                assert_int_equal(pits_meps_from_fill(&t, c, sk, wf), 0);
+                for (size_t i = 0; i < n; i++)
+                    if (sk[i] == PITS_OPEN) assert_memory_equal(&wf[i], &eps[i], sizeof(float));
+                free(wf);
+            }
             free(sk);
             free(c);
         }

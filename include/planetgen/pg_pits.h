@@ -201,6 +201,7 @@ pg_status pg_pits_stats_compute(const pg_pits_topo *t, const float *h, const pg_
  * fill is the minimal fill, an epsilon fill and the descent tree compute the
  * epsilon-surface) and the result is checked by a linear certificate instead of a
  * search (docs/pits.md, "Metrics"). area as in pg_pits_stats_compute; res may be NULL. */
+#define PG_PITS_HAVE_REMOVE_COUNTED 1 /* (for code built against several versions) */
 pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  const pg_pits_area *area, pg_pits_result *res,
                                  pg_pits_stats *before, pg_pits_stats *after, pg_error *err);

@@ -144,6 +144,20 @@ static pg_status fill_of(const pg_pits_topo *t, const float *h, const pg_pits_op
     return dispatch(t, out, &f, &r, err);
 }
 
+/* The epsilon-surface of the input of the plain fill f (the result), into w: from
+ * f's flats when that checks out (pits_meps_from_fill), else by its own flood. */
+static pg_status eps_of_fill(const pg_pits_topo *t, const float *in, float *f,
+                             const pg_pits_opts *o, float *w, pg_error *err) {
+    uint8_t *st = NULL;
+    uint64_t nsinks = 0;
+    pg_status s = pits_begin(t, f, o, &st, NULL, &nsinks, err); /* no-data: -inf for now */
+    if (s) return s;
+    int exact = pits_meps_from_fill(t, f, st, w) == 0;
+    pits_end(t, f, o, st);
+    free(st);
+    return exact ? PG_OK : fill_of(t, in, o, 1, w, err);
+}
+
 /* The depression counts of the result: 0 when the certificate of pits_drains_by holds
  * (p: the result itself, or for a plain fill the epsilon-surface of its input), else
  * the full count. */
@@ -188,7 +202,7 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     if (!s) summarise(t, in, h, &local);
     /* the other surface comes from its own flood; the other methods count as
      * pg_pits_stats_compute does */
-    if (!s && plain_fill) s = fill_of(t, in, o, 1, w, err);
+    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, err);
     if (!s && (eps_fill || descent)) s = fill_of(t, in, o, 0, fill, err);
     if (!s && (plain_fill || eps_fill || descent))
         s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,

@@ -281,6 +281,10 @@ int pits_meps_flood(pits_meps *m, pits_heap *q);
  * PITS_CLOSED. Returns nonzero when out of memory. */
 int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
                       float *w, int eps);
+/* The epsilon-surface of a plain fill's input from the fill f (states st from
+ * pits_begin on f) into w, by distances on f's flats, checked against (1): 0 when w
+ * is exact, nonzero when the check failed or memory ran out (then flood instead). */
+int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w);
 /* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
 void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
 

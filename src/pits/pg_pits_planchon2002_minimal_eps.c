@@ -154,6 +154,75 @@ int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const 
     return 0;
 }
 
+/* The epsilon-surface from the minimal fill f, without a flood, for the depression
+ * counts of a plain fill (pg_pits_remove_counted). On f every cell drains without
+ * ascending, so W on a flat of f (connected cells of one height s) is, in the usual
+ * case, s at the flat's exits (cells with a lower neighbour or a sink neighbour) and
+ * one ulp more per step away from them: a breadth-first search from the exits.
+ * That is a guess when heights differ by only a few ulps (a neighbouring flat's ulps
+ * may then reach s), so it is checked: W must satisfy (1) with floor f at every cell,
+ * in one parallel pass. (1) has exactly one solution, and it is the same for the floor
+ * h and for any floor between h and W (the file's opening comment), so a W that
+ * passes is the epsilon-surface of the fill's input, bit for bit. Returns 0 then;
+ * nonzero when the check fails or memory runs out (the caller then floods). */
+static uint32_t bits_of(float v) {
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    return u;
+}
+
+int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w) {
+    const int64_t n = (int64_t)t->ncells;
+    int64_t bad = 0;
+#pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++) {
+        if (st[i] != PITS_OPEN) {
+            w[i] = f[i];
+            continue;
+        }
+        uint32_t nb[8];
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb), exit = 0;
+        for (int j = 0; j < k; j++)
+            exit |= st[nb[j]] != PITS_OPEN || f[nb[j]] < f[i];
+        w[i] = exit ? f[i] : INFINITY; /* +inf: not reached yet */
+        bad += f[i] == INFINITY;       /* would look unreached */
+    }
+    if (bad) return -1;
+    pits_fifo q = {0};
+    uint32_t nb[8];
+    for (int64_t i = 0; i < n && !q.oom; i++) {
+        if (st[i] != PITS_OPEN || w[i] == INFINITY) continue;
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb), inner = 0;
+        for (int j = 0; j < k; j++)
+            inner |= w[nb[j]] == INFINITY && f[nb[j]] == f[i];
+        if (inner) pits_fifo_push(&q, (uint32_t)i);
+    }
+    while (!pits_fifo_empty(&q) && !q.oom) {
+        uint32_t c = pits_fifo_pop(&q);
+        float up = pits_up(w[c]);
+        int k = pg_pits_neighbours(t, c, nb);
+        for (int j = 0; j < k; j++)
+            if (w[nb[j]] == INFINITY && f[nb[j]] == f[c]) {
+                w[nb[j]] = up;
+                pits_fifo_push(&q, nb[j]);
+            }
+    }
+    int oom = q.oom;
+    pits_fifo_free(&q);
+    if (oom) return -1;
+#pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++) {
+        if (st[i] != PITS_OPEN) continue;
+        uint32_t nb2[8];
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb2);
+        float m = INFINITY;
+        for (int j = 0; j < k; j++)
+            m = pits_minf(m, st[nb2[j]] != PITS_OPEN ? -INFINITY : w[nb2[j]]);
+        bad += bits_of(w[i]) != bits_of(pits_maxf(f[i], pits_up(m)));
+    }
+    return bad ? -1 : 0;
+}
+
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err) {
     pits_heap q = {0};
