@@ -533,6 +533,8 @@ static void test_drain_certificate(void **state) {
     uint64_t ns = 0;
     assert_int_equal(pits_begin(&t, flat, &o, &sk, NULL, &ns, NULL), PG_OK);
     assert_false(pits_drains_by(&t, flat, sk, flat));
+    float wf[36]; /* nor is it taken for a fill whose flats all drain */
+    assert_int_not_equal(pits_meps_from_fill(&t, flat, sk, wf), 0);
     free(sk);
     assert_true(refused > 30);      /* grids with depressions were offered */
     assert_true(plain_ok == plain); /* the plain fill's count needs no search here */

@@ -144,10 +144,14 @@ static pg_status fill_of(const pg_pits_topo *t, const float *h, const pg_pits_op
     return dispatch(t, out, &f, &r, err);
 }
 
-/* The epsilon-surface of the input of the plain fill f (the result), into w: from
- * f's flats when that checks out (pits_meps_from_fill), else by its own flood. */
+/* For a plain fill f (the result): the epsilon-surface of its input into w, and f's
+ * count. From f's flats when that checks out (pits_meps_from_fill): every cell then
+ * got its value from an exit of its flat, so each has a path along its flat to a cell
+ * with a lower neighbour or a sink neighbour, and f has no depression (*counted = 1).
+ * Otherwise w comes from its own flood and the count is left to count_after. */
 static pg_status eps_of_fill(const pg_pits_topo *t, const float *in, float *f,
-                             const pg_pits_opts *o, float *w, pg_error *err) {
+                             const pg_pits_opts *o, float *w, pg_pits_stats *after, int *counted,
+                             pg_error *err) {
     uint8_t *st = NULL;
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, f, o, &st, NULL, &nsinks, err); /* no-data: -inf for now */
@@ -155,6 +159,11 @@ static pg_status eps_of_fill(const pg_pits_topo *t, const float *in, float *f,
     int exact = pits_meps_from_fill(t, f, st, w) == 0;
     pits_end(t, f, o, st);
     free(st);
+    *counted = exact;
+    if (exact) {
+        memset(after, 0, sizeof *after);
+        after->sinks = nsinks;
+    }
     return exact ? PG_OK : fill_of(t, in, o, 1, w, err);
 }
 
@@ -202,7 +211,8 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     if (!s) summarise(t, in, h, &local);
     /* the other surface comes from its own flood; the other methods count as
      * pg_pits_stats_compute does */
-    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, err);
+    int counted = 0; /* the count after is done */
+    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
     if (!s && (eps_fill || descent)) s = fill_of(t, in, o, 0, fill, err);
     if (!s && (plain_fill || eps_fill || descent))
         s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,
@@ -211,7 +221,7 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
         s = pg_pits_stats_compute(t, in, o, area, before, err);
     free(in);
     free(fill);
-    if (!s) s = count_after(t, h, o, plain_fill ? w : NULL, area, after, err);
+    if (!s && !counted) s = count_after(t, h, o, plain_fill ? w : NULL, area, after, err);
     free(w);
     if (!s && res) *res = local;
     return s;
