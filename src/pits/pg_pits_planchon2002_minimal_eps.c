@@ -188,21 +188,28 @@ int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st
         bad += f[i] == INFINITY;       /* would look unreached */
     }
     if (bad) return -1;
+    /* The exits (w == f) give their flats' cells next to them one ulp, in id order;
+     * then the search goes on from those, which are not exits: such a cell has no
+     * lower neighbour, and an unreached neighbour (not an exit either) none lower
+     * than it, so the two are level and the search reads only w. */
     pits_fifo q = {0};
     uint32_t nb[8];
     for (int64_t i = 0; i < n && !q.oom; i++) {
-        if (st[i] != PITS_OPEN || w[i] == INFINITY) continue;
-        int k = pg_pits_neighbours(t, (uint32_t)i, nb), inner = 0;
+        if (st[i] != PITS_OPEN || w[i] != f[i]) continue;
+        float up = pits_up(f[i]);
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
         for (int j = 0; j < k; j++)
-            inner |= w[nb[j]] == INFINITY && f[nb[j]] == f[i];
-        if (inner) pits_fifo_push(&q, (uint32_t)i);
+            if (w[nb[j]] == INFINITY && f[nb[j]] == f[i]) {
+                w[nb[j]] = up;
+                pits_fifo_push(&q, nb[j]);
+            }
     }
     while (!pits_fifo_empty(&q) && !q.oom) {
         uint32_t c = pits_fifo_pop(&q);
         float up = pits_up(w[c]);
         int k = pg_pits_neighbours(t, c, nb);
         for (int j = 0; j < k; j++)
-            if (w[nb[j]] == INFINITY && f[nb[j]] == f[c]) {
+            if (w[nb[j]] == INFINITY) {
                 w[nb[j]] = up;
                 pits_fifo_push(&q, nb[j]);
             }
