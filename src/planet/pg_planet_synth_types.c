@@ -113,6 +113,8 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
     const int h = 1 << scale, r = (int)(c->N >> scale), px = parity & 1, py = parity >> 1;
     const uint64_t seed = c->p->synth.seed;
+    /* texels of one parity class read only the other class: rows run in parallel */
+#pragma omp parallel for schedule(static) if ((int64_t)v->w * v->h >= 16384)
     for (int y = 0; y < v->h; y++) {
         long gy = v->gy + y;
         if ((int)(gy & 1) != py) continue;
