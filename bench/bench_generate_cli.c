@@ -15,6 +15,7 @@
  * build's figures are printed. The cache directory (default: a fresh temporary one) gets
  * a subdirectory per binary, since cache formats differ between versions. */
 #define _GNU_SOURCE /* wait4 */
+#include "bench_util.h"
 #include <dirent.h>
 #include <limits.h>
 #include <stdbool.h>
@@ -48,55 +49,26 @@ static double now_s(void) {
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-static double loadavg(void) {
-    double l = -1;
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f && fscanf(f, "%lf", &l) != 1) l = -1;
-    if (f) fclose(f);
-    return l;
-}
-
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) n = 0;
-    if (b) b[n] = 0;
-    fclose(f);
-    return b;
-}
-
-/* The number after "key": at or after `from`, NAN when absent. */
-static double num_after(const char *from, const char *key) {
-    char pat[96];
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    const char *p = from ? strstr(from, pat) : NULL;
-    return p ? strtod(p + strlen(pat), NULL) : NAN;
-}
-
 static void parse_report(const char *json, figures *f) {
-    char *t = slurp(json);
+    char *t = pg_bench_slurp(json);
     if (!t) return;
     const char *res = strstr(t, "\"results\"");
-    f->prep = num_after(res, "exemplar_prep_seconds");
-    f->synth = num_after(res, "synth_seconds");
-    f->mpx_s = num_after(res, "synthesized_mpx_per_second");
-    f->gain_pit = num_after(res, "gain_pit_seconds");
-    f->final_pits = num_after(res, "final_pits_seconds");
-    f->counts = num_after(res, "depression_count_seconds");
-    f->render = num_after(res, "render_seconds");
+    f->prep = pg_bench_json_number(res, "exemplar_prep_seconds");
+    f->synth = pg_bench_json_number(res, "synth_seconds");
+    f->mpx_s = pg_bench_json_number(res, "synthesized_mpx_per_second");
+    f->gain_pit = pg_bench_json_number(res, "gain_pit_seconds");
+    f->final_pits = pg_bench_json_number(res, "final_pits_seconds");
+    f->counts = pg_bench_json_number(res, "depression_count_seconds");
+    f->render = pg_bench_json_number(res, "render_seconds");
     const char *st = strstr(t, "\"stages\"");
     for (int i = 0; i < NSTAGE; i++) {
         char pat[96];
         snprintf(pat, sizeof pat, "\"name\": \"%s\"", stage_names[i]);
         const char *s = st ? strstr(st, pat) : NULL;
-        f->stage[i] = num_after(s, "seconds");
-        f->stage_cpu[i] = num_after(s, "cpu_seconds");
-        f->stage_minflt[i] = num_after(s, "minor_faults");
-        f->stage_majflt[i] = num_after(s, "major_faults");
+        f->stage[i] = pg_bench_json_number(s, "seconds");
+        f->stage_cpu[i] = pg_bench_json_number(s, "cpu_seconds");
+        f->stage_minflt[i] = pg_bench_json_number(s, "minor_faults");
+        f->stage_majflt[i] = pg_bench_json_number(s, "major_faults");
     }
     free(t);
 }
@@ -252,7 +224,8 @@ int main(int argc, char **argv) {
     printf("bench_generate_cli: after %s\n                    before %s\n", after,
            have ? before : "(none: set PG_BENCH_BEFORE_PLANETGEN or --before)");
     printf("threads %s (OMP_NUM_THREADS), load average %.1f at the start, work dir %s\n",
-           getenv("OMP_NUM_THREADS") ? getenv("OMP_NUM_THREADS") : "default", loadavg(), root);
+           getenv("OMP_NUM_THREADS") ? getenv("OMP_NUM_THREADS") : "default", pg_bench_loadavg(),
+           root);
     char list[256];
     snprintf(list, sizeof list, "%s", layouts);
     for (char *lay = strtok(list, ","); lay; lay = strtok(NULL, ",")) {
@@ -269,7 +242,7 @@ int main(int argc, char **argv) {
                 fprintf(stderr, "bench_generate_cli: %s %s failed\n", tags[k], lay);
         char title[128];
         snprintf(title, sizeof title, "layout %s, seed %s, warm cache, load %.1f", lay, seed,
-                 loadavg());
+                 pg_bench_loadavg());
         report(title, &f[0], &f[1], have);
     }
     if (cold) {
@@ -284,7 +257,8 @@ int main(int argc, char **argv) {
             if (system(cmd) != 0) return 1;
             f[k] = run_generate(bins[k], c, out[k], args);
         }
-        printf("\ncold exemplar preparation, 6 x 1024^2 (empty cache; load %.1f)\n", loadavg());
+        printf("\ncold exemplar preparation, 6 x 1024^2 (empty cache; load %.1f)\n",
+               pg_bench_loadavg());
         printf("  %-44s %10s %10s %9s  %s\n", "figure", "before", "after", "ratio", "target");
         row("prepare exemplar stage (sources + prep)", f[0].stage[0], f[1].stage[0], "<= 8 s",
             have);

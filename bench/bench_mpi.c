@@ -12,6 +12,7 @@
  *
  * usage: bench_mpi [TILES TILE_SIZE]   (default 4 256: the default planet's size, with
  *        the exemplar face fixed at 512). Needs mpirun (openmpi-bin) on the PATH. */
+#include "bench_util.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,27 +23,6 @@ typedef struct figures {
     double synth, total, rss[8], halo[MAX_SCALES], gather[MAX_SCALES], pits_bytes;
     int nrss, nscales;
 } figures;
-
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) n = 0;
-    if (s) s[n] = 0;
-    fclose(f);
-    return s;
-}
-
-/* The number after "key": in json (NaN if absent). */
-static double json_number(const char *json, const char *key) {
-    char k[128];
-    snprintf(k, sizeof k, "\"%s\":", key);
-    const char *p = strstr(json, k);
-    return p ? strtod(p + strlen(k), NULL) : 0.0 / 0.0;
-}
 
 /* The numbers of the array after "key": in json; returns how many (at most max). */
 static int json_array(const char *json, const char *key, double *out, int max) {
@@ -84,16 +64,16 @@ static int run(const char *cli, int ranks, int threads, const char *size, const 
         fprintf(stderr, "bench_mpi: failed: %s\n", cmd);
         return 1;
     }
-    char *s = slurp(json);
+    char *s = pg_bench_slurp(json);
     if (!s) return 1;
     memset(fig, 0, sizeof *fig);
-    fig->synth = json_number(s, "synth_seconds");
-    fig->total = json_number(s, "seconds_total");
+    fig->synth = pg_bench_json_number(s, "synth_seconds");
+    fig->total = pg_bench_json_number(s, "seconds_total");
     fig->nrss = json_array(s, "peak_rss_bytes_per_rank", fig->rss, 8);
-    if (!fig->nrss) fig->rss[0] = json_number(s, "peak_rss_bytes"), fig->nrss = 1;
+    if (!fig->nrss) fig->rss[0] = pg_bench_json_number(s, "peak_rss_bytes"), fig->nrss = 1;
     fig->nscales = json_array(s, "halo_bytes_per_scale", fig->halo, MAX_SCALES);
     json_array(s, "allgather_bytes_per_scale", fig->gather, MAX_SCALES);
-    fig->pits_bytes = json_number(s, "pits_bytes");
+    fig->pits_bytes = pg_bench_json_number(s, "pits_bytes");
     free(s);
     return 0;
 }

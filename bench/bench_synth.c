@@ -5,6 +5,7 @@
  *
  * usage: bench_synth [N (default 2048)] [cache dir (default: a fresh temp dir)]
  * Threads: OMP_NUM_THREADS (the issue's figure is for 2). Prints, never asserts. */
+#include "bench_util.h"
 #include "planetgen/pg_exemplar.h"
 #include "planetgen/pg_synth.h"
 
@@ -40,14 +41,6 @@ static double cpu_seconds(void) {
     getrusage(RUSAGE_SELF, &ru);
     return ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6 + ru.ru_stime.tv_sec +
            ru.ru_stime.tv_usec * 1e-6;
-}
-
-static double loadavg(void) {
-    double l = -1;
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f && fscanf(f, "%lf", &l) != 1) l = -1;
-    if (f) fclose(f);
-    return l;
 }
 
 static const char *stage_names[5] = {"cube reprojection", "Gaussian stack", "appearance PCA",
@@ -92,7 +85,7 @@ int main(int argc, char **argv) {
     if (prep(&src, dir, &ex, &pi)) return 1;
     printf("exemplar prep %s: %.2f s wall, %.2f s CPU (%.0f MB); load average %.1f\n",
            pi.from_cache ? "(was cached)" : "cold", pi.seconds, cpu_seconds() - c0, pi.bytes / 1e6,
-           loadavg());
+           pg_bench_loadavg());
     for (int i = 0; i < 5; i++)
         printf("  %-24s %.2f s\n", stage_names[i], pi.stage_seconds[i]);
     pg_synth_exemplar_free(ex);
@@ -126,7 +119,7 @@ int main(int argc, char **argv) {
     printf("synthesis + render %d x %d: %.2f s = %.2f Mpx/s (target >= 2)\n", n, n, dt,
            count / dt / 1e6);
     printf("  CPU time %.2f s = %.2f Mpx per CPU-second; load average %.1f\n", dc, count / dc / 1e6,
-           loadavg());
+           pg_bench_loadavg());
     printf("  per level (coarse -> fine):");
     for (int i = 0; i < r.nlevels_run; i++)
         printf(" %.3f", r.level_seconds[i]);
