@@ -149,18 +149,28 @@ static int cube_row(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell, co
 pg_status pg_cube_from_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
                                 const float *img, int w, int h, int ch, int samples, float *cube,
                                 pg_error *err) {
+    return pg_cube_from_equirect_rows(p, n, ell, img, w, h, ch, samples, 0, PG_CUBE_NFACES * n,
+                                      cube, err);
+}
+
+pg_status pg_cube_from_equirect_rows(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
+                                     const float *img, int w, int h, int ch, int samples,
+                                     int64_t row0, int64_t row1, float *cube, pg_error *err) {
     pg_status st = check_image(w, h, ch, "equirect", err);
     if (st != PG_OK) return st;
     if (n < 1 || samples < 1 || samples > 16)
         return pg_error_set(err, PG_ERR_BADINPUT, "resample: bad face size %lld or samples %d",
                             (long long)n, samples);
+    if (row0 < 0 || row1 > PG_CUBE_NFACES * n || row0 > row1)
+        return pg_error_set(err, PG_ERR_BADINPUT, "resample: bad rows [%lld, %lld)",
+                            (long long)row0, (long long)row1);
     double *pole = malloc(2 * (size_t)ch * sizeof *pole);
     if (!pole) return pg_error_set(err, PG_ERR_NOMEM, "resample: out of memory");
     pole_means(img, w, h, ch, pole);
     equirect E = {img, w, h, ch, pole};
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 4) reduction(| : failed)
-    for (int64_t r = 0; r < PG_CUBE_NFACES * n; r++) {
+    for (int64_t r = row0; r < row1; r++) {
         int face = (int)(r / n);
         failed |= cube_row(p, n, ell, &E, samples, face, r % n, cube + (size_t)r * n * ch);
     }

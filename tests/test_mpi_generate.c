@@ -13,6 +13,7 @@
 #include "planetgen/pg_mpi.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -100,15 +101,26 @@ static void expect_same_dir(const char *ref, const char *dir) {
     assert_int_equal(pg_test_count_files(dir), n);
 }
 
+/* The number after "key": in the JSON report `path` (NaN when absent). */
+static double report_number(const char *path, const char *key) {
+    static char text[1 << 16];
+    FILE *f = fopen(path, "r");
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f) fclose(f);
+    text[n] = 0;
+    return n ? pg_test_json_number(text, key) : NAN;
+}
+
 /* Single-process tiled run of `opts` into dir/ref, then mpirun with each rank count
- * into dir/npN, each compared byte for byte. */
+ * into dir/npN, each compared byte for byte, and the report's planet-wide figures
+ * (summed over the ranks) equal to the single process's. */
 static void expect_identical(const char *tag, const char *opts, const int *nps, int nnp) {
     char dir[512], args[2048], ref[700], got[700];
     pg_test_scratch_dir(tag, dir, sizeof dir);
     snprintf(ref, sizeof ref, "%s/ref", dir);
     snprintf(args, sizeof args,
-             "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s",
-             getenv("PG_BUILD_DIR"), opts, ref);
+             "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s --json %s.json",
+             getenv("PG_BUILD_DIR"), opts, ref, ref);
     int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
     if (rc != 0) fail_msg("single process: exit %d: %s", rc, err);
     /* 6 T^2 tiles, two files each, and the index */
@@ -118,11 +130,19 @@ static void expect_identical(const char *tag, const char *opts, const int *nps, 
     for (int i = 0; i < nnp; i++) {
         snprintf(got, sizeof got, "%s/np%d", dir, nps[i]);
         snprintf(args, sizeof args,
-                 "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s",
-                 getenv("PG_BUILD_DIR"), opts, got);
+                 "generate -q --output-layout tiled --cache-dir %s/synth-cache %s -o %s --json "
+                 "%s.json",
+                 getenv("PG_BUILD_DIR"), opts, got, got);
         rc = run_mpi(nps[i], NULL, args);
         if (rc != 0) fail_msg("mpirun -np %d: exit %d: %s", nps[i], rc, err);
         expect_same_dir(ref, got);
+        char rj[800], gj[800];
+        snprintf(rj, sizeof rj, "%s.json", ref);
+        snprintf(gj, sizeof gj, "%s.json", got);
+        double a = report_number(rj, "allowed_type_fraction"),
+               b = report_number(gj, "allowed_type_fraction");
+        if (!(a == b))
+            fail_msg("mpirun -np %d: allowed_type_fraction %g, one process %g", nps[i], b, a);
     }
 }
 

@@ -208,6 +208,13 @@ pg_status pg_cube_from_equirect(pg_cube_projection p, int64_t n, const pg_ellips
                                 const float *img, int w, int h, int ch, int samples, float *cube,
                                 pg_error *err);
 
+/* The same for the texel rows [row0, row1) of the cube only (row r is row r % n of face
+ * r / n, at cube + r * n * ch); the rest of the buffer is not touched. A distributed
+ * run fills the rows of its own tiles (docs/mpi.md, "Memory per rank"). */
+pg_status pg_cube_from_equirect_rows(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
+                                     const float *img, int w, int h, int ch, int samples,
+                                     int64_t row0, int64_t row1, float *cube, pg_error *err);
+
 /* Cube -> equirect, bilinear on the face grid, wrapping across seams. */
 pg_status pg_cube_to_equirect(pg_cube_projection p, int64_t n, const pg_ellipsoid *ell,
                               const float *cube, int ch, float *img, int w, int h, pg_error *err);

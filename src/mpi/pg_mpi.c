@@ -51,10 +51,14 @@ int pg_mpi_launcher_size(int *rank) {
 #include <mpi.h>
 #include <unistd.h>
 
-/* The exchange plan of the current (scale, width), per rank. */
+/* The exchange plan of the current (scale, width), per rank. A received texel is
+ * written where this rank reads it: at its own index inside a face, and beyond a face
+ * edge into the border texel that reads it (dst), so that no rank stores the edges of
+ * faces it does not own (docs/mpi.md, "Memory per rank"). */
 typedef struct pg_mpi_plan {
     int valid, scale, width, r;
-    pg_mpi_idx *send, *recv; /* per rank */
+    pg_mpi_idx *send, *recv; /* per rank: source indices, sorted, the messages' order */
+    pg_mpi_idx *put;         /* per rank: (source, destination) pairs, sorted */
     uint32_t *buf;           /* 2 words per texel: all sends, then all receives */
 } plan;
 
@@ -84,9 +88,10 @@ pg_status pg_mpi_init(pg_mpi **out, pg_error *err) {
 
 static void plan_free(plan *p, int size) {
     for (int q = 0; p->send && q < size; q++)
-        free(p->send[q].a), free(p->recv[q].a);
+        free(p->send[q].a), free(p->recv[q].a), free(p->put[q].a);
     free(p->send);
     free(p->recv);
+    free(p->put);
     free(p->buf);
     memset(p, 0, sizeof *p);
 }
@@ -134,7 +139,7 @@ static void plan_ring(const pg_mpi *m, const pg_cube_grid *g, const pg_planet_le
             for (int x = x0 - w; x < x0 + ts + w; x++) {
                 if (y >= y0 && y < y0 + ts && x == x0) x = x0 + ts; /* skip the interior */
                 if (x >= x0 + ts + w) break;
-                int sf = f, sx = x, sy = y;
+                int sf = f, sx = x, sy = y; /* the source; (f, x, y) reads it */
                 if (x < 0 || x >= r || y < 0 || y >= r) {
                     if (x < -1 || x > r || y < -1 || y > r) continue; /* clamped reads */
                     int rot;
@@ -143,10 +148,34 @@ static void plan_ring(const pg_mpi *m, const pg_cube_grid *g, const pg_planet_le
                 }
                 int o = owner_of(m, T, sf, sx / ts, sy / ts);
                 size_t i = level_index(L, sf, sx, sy);
-                if (q == me && o != me) pg_mpi_idx_push(&p->recv[o], i);
+                if (q == me && o != me) {
+                    pg_mpi_idx_push(&p->put[o], i);
+                    pg_mpi_idx_push(&p->put[o], level_index(L, f, x, y));
+                }
                 if (q != me && o == me) pg_mpi_idx_push(&p->send[q], i);
             }
     }
+}
+
+static int cmp_pair(const void *a, const void *b) {
+    const size_t *x = a, *y = b;
+    if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+    return x[1] < y[1] ? -1 : x[1] > y[1];
+}
+
+/* Sort the (source, destination) pairs received from one rank, drop repeats, and list
+ * the distinct sources (the message's order). */
+static void plan_puts(pg_mpi_idx *put, pg_mpi_idx *recv) {
+    size_t n = put->n / 2, k = 0;
+    if (!n) return;
+    qsort(put->a, n, 2 * sizeof *put->a, cmp_pair);
+    for (size_t i = 0; i < n; i++) {
+        if (k && !cmp_pair(&put->a[2 * i], &put->a[2 * (k - 1)])) continue;
+        put->a[2 * k] = put->a[2 * i], put->a[2 * k + 1] = put->a[2 * i + 1];
+        if (!recv->n || recv->a[recv->n - 1] != put->a[2 * k]) pg_mpi_idx_push(recv, put->a[2 * k]);
+        k++;
+    }
+    put->n = 2 * k;
 }
 
 static pg_status plan_build(pg_mpi *m, const pg_planet_level *L, int w, pg_error *err) {
@@ -158,14 +187,17 @@ static pg_status plan_build(pg_mpi *m, const pg_planet_level *L, int w, pg_error
     if (st) return st;
     p->send = calloc((size_t)m->size, sizeof *p->send);
     p->recv = calloc((size_t)m->size, sizeof *p->recv);
-    if (!p->send || !p->recv) return pg_error_set(err, PG_ERR_NOMEM, "MPI: out of memory (plan)");
+    p->put = calloc((size_t)m->size, sizeof *p->put);
+    if (!p->send || !p->recv || !p->put)
+        return pg_error_set(err, PG_ERR_NOMEM, "MPI: out of memory (plan)");
     for (int q = 0; q < m->size; q++)
         plan_ring(m, &g, L, q, w, p);
     size_t words = 0;
     int oom = 0;
     for (int q = 0; q < m->size; q++) {
         pg_mpi_idx_unique(&p->send[q]);
-        pg_mpi_idx_unique(&p->recv[q]);
+        plan_puts(&p->put[q], &p->recv[q]);
+        oom |= p->put[q].oom;
         words += 2 * (p->send[q].n + p->recv[q].n);
         oom |= p->send[q].oom | p->recv[q].oom;
         if (2 * p->send[q].n > INT_MAX || 2 * p->recv[q].n > INT_MAX) oom = 2;
@@ -185,10 +217,15 @@ static void pack(const pg_planet_level *L, const pg_mpi_idx *v, uint32_t *out) {
     }
 }
 
-static void unpack(const pg_planet_level *L, const pg_mpi_idx *v, const uint32_t *in) {
-    for (size_t k = 0; k < v->n; k++) {
-        L->S[v->a[k]] = in[2 * k];
-        memcpy(&L->V[v->a[k]], &in[2 * k + 1], 4);
+/* Each received texel to every place that reads it (the pairs, sorted by source like
+ * the message). */
+static void unpack(const pg_planet_level *L, const pg_mpi_idx *put, const uint32_t *in) {
+    size_t k = 0;
+    for (size_t j = 0; j < put->n / 2; j++) {
+        if (j && put->a[2 * j] != put->a[2 * j - 2]) k++;
+        size_t d = put->a[2 * j + 1];
+        L->S[d] = in[2 * k];
+        memcpy(&L->V[d], &in[2 * k + 1], 4);
     }
 }
 
@@ -222,7 +259,7 @@ static pg_status exchange_halo(pg_mpi *m, const pg_planet_level *L, int w, pg_er
         return pg_error_set(err, PG_ERR_RUNTIME, "MPI: tile-edge exchange failed");
     b = recv0;
     for (int q = 0; q < m->size; q++) {
-        unpack(L, &p->recv[q], b);
+        unpack(L, &p->put[q], b);
         b += 2 * p->recv[q].n;
     }
     if (L->scale < PG_MPI_MAX_SCALES) m->stats.halo_bytes[L->scale] += 8.0 * (double)sent;

@@ -67,15 +67,13 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
     c->s_top = pg_ps_top_scale(ex);
     c->keep = pg_planet_synth_keep_levels(ex, p);
     c->info = info;
-    size_t nb = (size_t)6 * 4 * (c->N + 2), full = (size_t)6 * (c->N + 2) * (c->N + 2);
+    size_t nb = (size_t)6 * 4 * (c->N + 2);
     c->bm.dst = malloc(nb * sizeof(size_t));
     c->bm.src = malloc(nb * sizeof(size_t));
-    c->bm.orient = malloc(full);
     size_t px = (size_t)6 * c->N * c->N;
     if (p->types) c->mask = malloc(px);
     if (p->guide) c->guide = malloc(px * sizeof(float));
-    if (!c->bm.dst || !c->bm.src || !c->bm.orient || (p->types && !c->mask) ||
-        (p->guide && !c->guide))
+    if (!c->bm.dst || !c->bm.src || (p->types && !c->mask) || (p->guide && !c->guide))
         return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
     for (int s = 0; s <= c->s_top; s++)
         c->work_total += 1.0 / ((double)(1 << s) * (1 << s));
@@ -87,7 +85,7 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
 
 static pg_status prepare_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
     int ts = c->S >> scale;
-    pg_status st = pg_ps_border_build(L, c->T, ts, &c->bm, c->bm.orient, err);
+    pg_status st = pg_ps_border_build(c, L, ts, false, &c->bm, err);
     if (!st) st = pg_ps_types_level(c, L->r, ts, err);
     if (!st) st = pg_ps_guide_level(c, L->r, err);
     return st;
@@ -229,8 +227,10 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
         bool all = !pg_ps_dist_final(&c) && ((p->pits && p->final_pits) || p->pit_stats);
         whole = !p->dist || all;
         st = pg_ps_exchange(&c, 0, &L, all ? -1 : 2, err);
+        if (!st && all && p->dist) st = pg_ps_border_build(&c, &L, c.S, true, &c.bm, err);
         if (!st) {
-            pg_ps_border_refresh(&c.bm, &L); /* the magnification reads across face seams */
+            /* the magnification reads across face seams */
+            pg_ps_border_refresh(&c.bm, &L, whole);
             pg_ps_finest_heights(&c, &L, H, whole);
         }
     }

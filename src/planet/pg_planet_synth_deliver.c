@@ -68,26 +68,32 @@ static void magnified_texel(const pg_ps_ctx *c, const pg_ps_level *L, int f, int
     o->h = (float)acc[3];
 }
 
-/* Is delivered texel (x, y) of face f in one of this process's tiles? */
-static bool owned_texel(const pg_ps_ctx *c, int f, int64_t x, int64_t y) {
+/* The delivered texels [*x0, *x1) of row y of face f that lie in tile column tx, when
+ * this process owns that tile (always without dist, or with all). */
+static bool owned_span(const pg_ps_ctx *c, int f, int64_t y, int tx, bool all, int64_t *x0,
+                       int64_t *x1) {
     const int64_t ts = c->Nout / c->T;
-    return pg_ps_owns(c, f, (int)(x / ts), (int)(y / ts));
+    *x0 = tx * ts, *x1 = *x0 + ts;
+    return all || !c->p->dist || pg_ps_owns(c, f, tx, (int)(y / ts));
 }
 
 /* Row `row` (face row / n, texel row row % n) of the delivered planet: heights into h,
- * albedo into rgb, when not NULL. */
-/* With all false, only the texels of this process's tiles (all of them without dist). */
+ * albedo into rgb, when not NULL. With all false, only the texels of this process's
+ * tiles (all of them without dist); no other texel of h or rgb is touched. */
 static void deliver_row(const pg_ps_ctx *c, const pg_ps_level *L, int64_t row, float *h, float *rgb,
                         bool all) {
     const int64_t n = c->Nout;
     const int f = (int)(row / n);
-    for (int64_t x = 0; x < n; x++) {
-        if (!all && c->p->dist && !owned_texel(c, f, x, row % n)) continue;
-        texel_out o;
-        magnified_texel(c, L, f, x, row % n, &o);
-        if (h) h[x] = o.h;
-        for (int k = 0; rgb && k < 3; k++)
-            rgb[x * 3 + k] = o.rgb[k];
+    for (int tx = 0; tx < c->T; tx++) {
+        int64_t x0, x1;
+        if (!owned_span(c, f, row % n, tx, all, &x0, &x1)) continue;
+        for (int64_t x = x0; x < x1; x++) {
+            texel_out o;
+            magnified_texel(c, L, f, x, row % n, &o);
+            if (h) h[x] = o.h;
+            for (int k = 0; rgb && k < 3; k++)
+                rgb[x * 3 + k] = o.rgb[k];
+        }
     }
 }
 
@@ -98,7 +104,7 @@ void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bo
 }
 
 /* Albedo (magnified), the heights H, and per delivered texel the exemplar coordinate of
- * its synthesized texel (coords, types). */
+ * its synthesized texel (coords, types): this process's tiles only. */
 void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
                   uint32_t *coords) {
     const int64_t n = c->Nout;
@@ -109,20 +115,23 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_p
         int f = (int)(row / n);
         int64_t y = row % n;
         deliver_row(c, L, row, NULL, out->albedo[f] + (size_t)y * n * 3, false);
-        if (!c->p->dist)
-            memcpy(out->height[f] + (size_t)y * n, H + (size_t)row * n, (size_t)n * sizeof *H);
-        for (int64_t x = 0; x < n; x++) {
-            if (c->p->dist) {
-                if (!owned_texel(c, f, x, y)) continue;
-                out->height[f][(size_t)y * n + x] = H[(size_t)row * n + x];
+        for (int tx = 0; tx < c->T; tx++) {
+            int64_t x0, x1;
+            if (!owned_span(c, f, y, tx, false, &x0, &x1)) continue;
+            memcpy(out->height[f] + (size_t)y * n + x0, H + (size_t)row * n + x0,
+                   (size_t)(x1 - x0) * sizeof *H);
+            for (int64_t x = x0; x < x1; x++) {
+                uint32_t q = L->S[pg_ps_at(L, f, (int)(x / m), (int)(y / m))];
+                if (coords) coords[(size_t)row * n + x] = q;
+                if (c->use_types)
+                    ok += (pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
+                           c->etype[pg_synth_texel(c->ex, q)]) &
+                          1;
             }
-            uint32_t q = L->S[pg_ps_at(L, f, (int)(x / m), (int)(y / m))];
-            if (coords) coords[(size_t)row * n + x] = q;
-            if (c->use_types)
-                ok += (pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
-                       c->etype[pg_synth_texel(c->ex, q)]) &
-                      1;
         }
     }
-    c->info->allowed_fraction = c->use_types ? (double)ok / (6.0 * n * n) : 1.0;
+    double allowed = (double)ok; /* distributed: each process counted its tiles */
+    if (c->use_types && c->p->dist && c->p->dist->sum)
+        allowed = c->p->dist->sum(c->p->dist->user, allowed);
+    c->info->allowed_fraction = c->use_types ? allowed / (6.0 * n * n) : 1.0;
 }

@@ -15,17 +15,26 @@ pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err) {
     int samples = (int)ceil((double)g->width / (4.0 * r));
     if (samples < 1) samples = 1;
     if (samples > 8) samples = 8;
-    return pg_cube_from_equirect(PG_CUBE_DEFAULT_PROJECTION, r, NULL, g->metres, g->width,
-                                 g->height, 1, samples, c->guide, err);
+    pg_status st = PG_OK;
+    for (int f = 0; f < 6 && !st; f++) { /* distributed: the rows of the owned tiles */
+        int y0, y1;
+        pg_ps_owned_rows(c, r, f, &y0, &y1);
+        if (y0 < y1)
+            st = pg_cube_from_equirect_rows(PG_CUBE_DEFAULT_PROJECTION, r, NULL, g->metres,
+                                            g->width, g->height, 1, samples, (int64_t)f * r + y0,
+                                            (int64_t)f * r + y1, c->guide, err);
+    }
+    return st;
 }
 
-/* The blend on the n texels of the reconstruction R and the offsets Vc (as V += w (G -
- * R), so that R stays E_s(S) + V). */
-void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc) {
+/* The blend on n texels of the reconstruction R, the offsets Vc and the guide G (as V
+ * += w (G - R), so that R stays E_s(S) + V). */
+void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc,
+                       const float *G) {
     float w = (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) {
-        float d = w * (c->guide[i] - R[i]);
+        float d = w * (G[i] - R[i]);
         Vc[i] += d;
         R[i] += d;
     }

@@ -30,10 +30,14 @@ typedef struct pg_ps_level {
 } pg_ps_level;
 
 /* The face borders: for each border texel its source (a texel of a neighbouring face)
- * and the orientation from this face's frame into the source's. */
+ * and the orientation from this face's frame into the source's. Distributed, only the
+ * border texels within two texels of an owned tile are listed, those whose source this
+ * process owns first (the first nlocal, copied by pg_ps_border_refresh); the others'
+ * sources belong to other processes, whose exchange writes the border texel itself
+ * (docs/mpi.md, "Memory per rank"), so no process stores a foreign face's edge. */
 typedef struct pg_ps_border {
-    size_t n, *dst, *src;
-    uint8_t *orient; /* 6 * fsz, zero inside */
+    size_t n, nlocal, *dst, *src;
+    uint8_t *orient; /* 6 * fsz, zero inside; allocated per level, untouched far from owned tiles */
 } pg_ps_border;
 
 /* The run's context: parameters resolved once, buffers that live for the whole run. */
@@ -110,9 +114,11 @@ static inline uint8_t pg_ps_mask_at(const pg_ps_ctx *c, int r, int f, long x, lo
 
 pg_status pg_ps_level_alloc(pg_ps_level *L, int r);
 void pg_ps_level_free(pg_ps_level *L);
-pg_status pg_ps_border_build(const pg_ps_level *L, int tiles, int ts, pg_ps_border *b,
-                             uint8_t *orient, pg_error *err);
-void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L);
+pg_status pg_ps_border_build(const pg_ps_ctx *c, const pg_ps_level *L, int ts, bool all,
+                             pg_ps_border *b, pg_error *err);
+void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L, bool whole);
+void pg_ps_owned_rows(const pg_ps_ctx *c, int r, int f, int *y0, int *y1);
+bool pg_ps_owned_near(const pg_ps_ctx *c, int r, int f, int x, int y, int d);
 pg_status pg_ps_exchange(const pg_ps_ctx *c, int scale, const pg_ps_level *L, int width,
                          pg_error *err);
 void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L);
@@ -131,7 +137,8 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
 /* --------------------------- pg_planet_synth_guide.c --------------------------- */
 
 pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err);
-void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc);
+void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc,
+                       const float *G);
 
 /* --------------------------- pg_planet_synth_world.c --------------------------- */
 

@@ -47,32 +47,79 @@ static pg_synth_view tile_view(const pg_ps_level *L, int f, int x0, int y0, int 
 
 /* ------------------------------ face borders, exchange ------------------------------ */
 
-pg_status pg_ps_border_build(const pg_ps_level *L, int tiles, int ts, pg_ps_border *b,
-                             uint8_t *orient, pg_error *err) {
+/* Does this process own a texel of face f within Chebyshev distance d of (x, y) (a
+ * texel of the face or of its border)? Always, without distribution. */
+bool pg_ps_owned_near(const pg_ps_ctx *c, int r, int f, int x, int y, int d) {
+    if (!c->p->dist) return true;
+    const int ts = r / c->T;
+    int xa = x - d < 0 ? 0 : x - d, xb = x + d >= r ? r - 1 : x + d;
+    int ya = y - d < 0 ? 0 : y - d, yb = y + d >= r ? r - 1 : y + d;
+    for (int ty = ya / ts; ty <= yb / ts; ty++)
+        for (int tx = xa / ts; tx <= xb / ts; tx++)
+            if (pg_ps_owns(c, f, tx, ty)) return true;
+    return false;
+}
+
+/* The rows [*y0, *y1) of face f, at a level of r texels per face edge, that hold this
+ * process's tiles (every row without distribution; an empty range when it owns none of
+ * the face). Per-texel fields (type mask, guide) are computed on these rows only. */
+void pg_ps_owned_rows(const pg_ps_ctx *c, int r, int f, int *y0, int *y1) {
+    *y0 = 0, *y1 = r;
+    if (!c->p->dist) return;
+    const int ts = r / c->T;
+    int lo = c->T, hi = -1;
+    for (int ty = 0; ty < c->T; ty++)
+        for (int tx = 0; tx < c->T; tx++)
+            if (pg_ps_owns(c, f, tx, ty)) {
+                lo = ty < lo ? ty : lo;
+                hi = ty > hi ? ty : hi;
+            }
+    *y0 = hi < 0 ? 0 : lo * ts;
+    *y1 = hi < 0 ? 0 : (hi + 1) * ts;
+}
+
+/* all: every border texel, for a level gathered whole. */
+pg_status pg_ps_border_build(const pg_ps_ctx *c, const pg_ps_level *L, int ts, bool all,
+                             pg_ps_border *b, pg_error *err) {
     pg_cube_grid g;
-    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, tiles, ts, err);
+    pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, c->T, ts, err);
     if (st) return st;
     const int r = L->r;
-    b->n = 0;
-    b->orient = orient;
-    memset(orient, 0, 6 * L->fsz);
+    free(b->orient); /* a fresh zeroed map per level: pages far from owned tiles stay untouched */
+    if (!(b->orient = calloc(6 * L->fsz, 1)))
+        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (borders)");
+    size_t nfar = 0, cap = (size_t)6 * 4 * (r + 1);
+    b->n = b->nlocal = 0;
     for (int f = 0; f < 6; f++)
         for (int y = -1; y <= r; y++)
             for (int x = -1; x <= r; x++) {
                 if (x >= 0 && x < r && y >= 0 && y < r) continue;
+                if (!all && !pg_ps_owned_near(c, r, f, x, y, 2)) continue;
                 int rot;
                 int64_t id = pg_cube_wrap(&g, f, x, y, &rot);
                 int64_t per = (int64_t)r * r;
                 int sf = (int)(id / per), sy = (int)(id % per / r), sx = (int)(id % r);
-                b->dst[b->n] = pg_ps_at(L, f, x, y);
-                b->src[b->n++] = pg_ps_at(L, sf, sx, sy);
-                orient[pg_ps_at(L, f, x, y)] = (uint8_t)((4 - rot) & 3);
+                size_t dst = pg_ps_at(L, f, x, y), src = pg_ps_at(L, sf, sx, sy);
+                b->orient[dst] = (uint8_t)((4 - rot) & 3);
+                if (all || !c->p->dist || pg_ps_owned_at(c, r, sf, sx, sy)) {
+                    b->dst[b->nlocal] = dst, b->src[b->nlocal++] = src;
+                } else { /* listed from the end, moved after the local ones below */
+                    nfar++;
+                    b->dst[cap - nfar] = dst, b->src[cap - nfar] = src;
+                }
             }
+    for (size_t k = 0; k < nfar; k++)
+        b->dst[b->nlocal + k] = b->dst[cap - nfar + k],
+                           b->src[b->nlocal + k] = b->src[cap - nfar + k];
+    b->n = b->nlocal + nfar;
     return PG_OK;
 }
 
-void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L) {
-    for (size_t i = 0; i < b->n; i++) {
+/* Copy the border texels from their sources: the local ones, or all of them after the
+ * level was gathered whole (whole). */
+void pg_ps_border_refresh(const pg_ps_border *b, pg_ps_level *L, bool whole) {
+    size_t n = whole ? b->n : b->nlocal;
+    for (size_t i = 0; i < n; i++) {
         L->S[b->dst[i]] = L->S[b->src[i]];
         L->V[b->dst[i]] = L->V[b->src[i]];
     }
@@ -283,7 +330,7 @@ pg_status pg_ps_correct_subpass_all(pg_ps_ctx *c, int scale, int parity, pg_ps_l
     const bool split = !c->independent_tiles && r > 2;
     pg_status st = pg_ps_exchange(c, scale, L, 1, err);
     if (st) return st;
-    pg_ps_border_refresh(&c->bm, L);
+    pg_ps_border_refresh(&c->bm, L, false);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < ntiles; t++) {
         int f = t / (T * T), tx = t % T, ty = t / T % T;
@@ -298,7 +345,7 @@ pg_status pg_ps_correct_subpass_all(pg_ps_ctx *c, int scale, int parity, pg_ps_l
     }
     if (!split) return PG_OK;
     if ((st = pg_ps_exchange(c, scale, L, 1, err))) return st;
-    pg_ps_border_refresh(&c->bm, L);
+    pg_ps_border_refresh(&c->bm, L, false);
     /* the rings of the two polar faces: 4 strips each (bottom, top, left, right) */
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < 8; k++) {

@@ -14,18 +14,41 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. */
-/* With owned_only, the texels of other processes' tiles (stale, perhaps never
- * written) get R = Vc = 0; the pits hook exchanges what it reads of them. */
-static void reconstruct(const pg_ps_ctx *c, int scale, const pg_ps_level *L, float *R, float *Vc,
-                        bool owned_only) {
+/* The rows [y0[f], y1[f]) of each face that a pass over the level visits: every row, or
+ * with owned_only the rows of this process's tiles, so that a distributed run touches
+ * no other memory of the level's planet-sized arrays (docs/mpi.md, "Memory per rank"). */
+typedef struct level_rows {
+    int y0[6], y1[6];
+    bool owned_only;
+} level_rows;
+
+static level_rows rows_of(const pg_ps_ctx *c, int r, bool owned_only) {
+    level_rows lr = {.owned_only = owned_only};
+    for (int f = 0; f < 6; f++) {
+        lr.y0[f] = 0, lr.y1[f] = r;
+        if (owned_only) pg_ps_owned_rows(c, r, f, &lr.y0[f], &lr.y1[f]);
+    }
+    return lr;
+}
+
+static bool row_visited(const level_rows *lr, int r, int row) {
+    int f = row / r, y = row % r;
+    return y >= lr->y0[f] && y < lr->y1[f];
+}
+
+/* Contiguous 6 r^2 copies of the reconstructed heights R = E_s(S) + V and of V. With
+ * owned_only, the texels of other processes' tiles in the visited rows get R = Vc = 0
+ * (the pits hook exchanges what it reads of them) and the other rows are not touched. */
+static void reconstruct(const pg_ps_ctx *c, int scale, const pg_ps_level *L, const level_rows *lr,
+                        float *R, float *Vc) {
     const int r = L->r;
 #pragma omp parallel for schedule(static)
     for (int row = 0; row < 6 * r; row++) {
+        if (!row_visited(lr, r, row)) continue;
         int f = row / r, y = row % r;
         for (int x = 0; x < r; x++) {
             size_t i = pg_ps_at(L, f, x, y), j = ((size_t)f * r + y) * r + x;
-            if (owned_only && !pg_ps_owned_at(c, r, f, x, y)) {
+            if (lr->owned_only && !pg_ps_owned_at(c, r, f, x, y)) {
                 R[j] = 0;
                 if (Vc) Vc[j] = 0;
                 continue;
@@ -36,13 +59,16 @@ static void reconstruct(const pg_ps_ctx *c, int scale, const pg_ps_level *L, flo
     }
 }
 
-static void store_offsets(const float *Vc, pg_ps_level *L) {
+static void store_offsets(const pg_ps_ctx *c, const level_rows *lr, const float *Vc,
+                          pg_ps_level *L) {
     const int r = L->r;
 #pragma omp parallel for schedule(static)
     for (int row = 0; row < 6 * r; row++) {
+        if (!row_visited(lr, r, row)) continue;
         int f = row / r, y = row % r;
         for (int x = 0; x < r; x++)
-            L->V[pg_ps_at(L, f, x, y)] = Vc[((size_t)f * r + y) * r + x];
+            if (!lr->owned_only || pg_ps_owned_at(c, r, f, x, y))
+                L->V[pg_ps_at(L, f, x, y)] = Vc[((size_t)f * r + y) * r + x];
     }
 }
 
@@ -58,20 +84,23 @@ static pg_pits_opts pits_opts(const pg_ps_ctx *c, pg_pits_method m) {
 }
 
 /* Gain-pit on the owned tiles through the hook: R' = remove(R) there, Vc += R' - R. */
-static pg_status gainpit_dist(pg_ps_ctx *c, int r, const float *R, float *Vc, const pg_pits_opts *o,
-                              pg_error *err) {
+static pg_status gainpit_dist(pg_ps_ctx *c, int r, const level_rows *lr, const float *R, float *Vc,
+                              const pg_pits_opts *o, pg_error *err) {
     size_t n = (size_t)6 * r * r;
     float *R2 = malloc(n * sizeof *R2);
     if (!R2) return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
-    memcpy(R2, R, n * sizeof *R2);
+    for (int f = 0; f < 6; f++) /* the visited rows only: the others are never touched */
+        if (lr->y0[f] < lr->y1[f])
+            memcpy(R2 + ((size_t)f * r + lr->y0[f]) * r, R + ((size_t)f * r + lr->y0[f]) * r,
+                   (size_t)(lr->y1[f] - lr->y0[f]) * r * sizeof *R2);
     const pg_planet_synth_dist *d = c->p->dist;
     pg_status st = d->pits(d->user, (uint32_t)r, c->T, R2, o, err);
     uint64_t changed = 0;
     for (int f = 0; !st && f < 6; f++)
-        for (int y = 0; y < r; y++)
+        for (int y = lr->y0[f]; y < lr->y1[f]; y++)
             for (int x = 0; x < r; x++) {
                 size_t i = ((size_t)f * r + y) * r + x;
-                if (R2[i] == R[i] || !pg_ps_owned_at(c, r, f, x, y)) continue;
+                if (!pg_ps_owned_at(c, r, f, x, y) || R2[i] == R[i]) continue;
                 Vc[i] += R2[i] - R[i];
                 changed++;
             }
@@ -93,22 +122,26 @@ pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
     bool gather = pits && !pg_ps_dist_pits(c, r);
     pg_status xs = gather ? pg_ps_exchange(c, scale, L, -1, err) : PG_OK;
     if (xs) return xs;
-    size_t n = (size_t)6 * r * r;
+    size_t n = (size_t)6 * r * r; /* planet-sized; distributed, only the owned rows are touched */
     float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
     if (!R || !Vc) {
         free(R), free(Vc);
         return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
     }
-    reconstruct(c, scale, L, R, Vc, c->p->dist && !gather);
+    const level_rows lr = rows_of(c, r, c->p->dist && !gather);
+    reconstruct(c, scale, L, &lr, R, Vc);
     pg_status st = PG_OK;
-    if (c->guide) pg_ps_guide_blend(c, scale, n, R, Vc);
+    for (int f = 0; c->guide && f < 6; f++) {
+        size_t a = ((size_t)f * r + lr.y0[f]) * r, b = ((size_t)f * r + lr.y1[f]) * r;
+        if (a < b) pg_ps_guide_blend(c, scale, b - a, R + a, Vc + a, c->guide + a);
+    }
     if (pits) {
         double t0 = pg_synth_now();
         pg_pits_topo topo;
         pg_pits_opts o = pits_opts(c, c->p->pit_method);
         pg_pits_result res;
         if (pg_ps_dist_pits(c, r)) {
-            st = gainpit_dist(c, r, R, Vc, &o, err);
+            st = gainpit_dist(c, r, &lr, R, Vc, &o, err);
         } else {
             st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
             if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
@@ -116,7 +149,7 @@ pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
         }
         c->info->pits_seconds += pg_synth_now() - t0;
     }
-    if (!st) store_offsets(Vc, L);
+    if (!st) store_offsets(c, &lr, Vc, L);
     free(R);
     free(Vc);
     return st;

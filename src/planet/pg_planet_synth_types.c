@@ -69,8 +69,15 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
     pg_cube_grid g;
     pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, c->T, ts, err);
     if (st) return st;
+    int64_t first[6], last[6]; /* distributed: the rows of the owned tiles */
+    for (int f = 0; f < 6; f++) {
+        int y0, y1;
+        pg_ps_owned_rows(c, r, f, &y0, &y1);
+        first[f] = ((int64_t)f * r + y0) * r, last[f] = ((int64_t)f * r + y1) * r;
+    }
 #pragma omp parallel for schedule(static)
     for (int64_t id = 0; id < (int64_t)6 * r * r; id++) {
+        if (id < first[id / ((int64_t)r * r)] || id >= last[id / ((int64_t)r * r)]) continue;
         double d[3];
         pg_cube_texel_dir(&g, id, d);
         double lat = sphere_lat(d), lon = atan2(d[1], d[0]) * (180.0 / 3.14159265358979323846);
