@@ -116,6 +116,7 @@ static int flood_tile(pg_mpi_pits_grid *d, uint32_t *label, uint32_t i, gedges *
                        .wshift = -1};
     in->n = cross->n = 0;
     int oom = pits_b16_flood_tile(&b, in, cross);
+    if (!oom) pits_b16_edges_compact(in); /* the tile's label pairs, once each */
     for (size_t k = 0; !oom && k < in->n; k++)
         gedge_push(ev, global_label(d, in->e[k].a), global_label(d, in->e[k].b), in->e[k].w);
     for (size_t k = 0; !oom && k < cross->n; k++) {
@@ -127,8 +128,9 @@ static int flood_tile(pg_mpi_pits_grid *d, uint32_t *label, uint32_t i, gedges *
 }
 
 /* Rank 0: the sorted labels of the gathered edges, the edges renumbered to their
- * indices, and the levels. Nonzero when out of memory. */
-static int solve_root(const gedge *all, size_t ne, uint64_t **labels_out, float **levels_out,
+ * indices, and the levels; frees all as soon as the indices are made. Nonzero when
+ * out of memory. */
+static int solve_root(gedge *all, size_t ne, uint64_t **labels_out, float **levels_out,
                       size_t *nl_out) {
     uint64_t *labels = malloc((2 * ne + 1) * sizeof *labels);
     pits_b16_edge *idx = malloc((ne + 1) * sizeof *idx);
@@ -142,6 +144,11 @@ static int solve_root(const gedge *all, size_t ne, uint64_t **labels_out, float 
     for (size_t k = 0; !oom && k < ne; k++)
         idx[k] = (pits_b16_edge){(uint32_t)pits_sorted_index_u64(labels, nl, all[k].a),
                                  (uint32_t)pits_sorted_index_u64(labels, nl, all[k].b), all[k].w};
+    free(all);
+    if (!oom && nl < 2 * ne) { /* keep only the distinct labels */
+        uint64_t *shrunk = realloc(labels, (nl + 1) * sizeof *labels);
+        if (shrunk) labels = shrunk;
+    }
     levels = oom ? NULL : malloc((nl + 1) * sizeof *levels);
     uint32_t source = nl && labels[0] == PITS_B16_OUTLET ? 0 : UINT32_MAX;
     pits_b16_edges one = {idx, ne, ne, 0};
@@ -161,8 +168,10 @@ static int solve_and_share(pg_mpi *m, const gedges *ev, uint64_t **labels_out, f
     gedge *all = pg_mpi_gather_root(m, ev->e, ev->n * 3, MPI_UINT64_T, 8, &words, &oom);
     uint64_t *labels = NULL;
     float *levels = NULL;
-    if (!oom && pg_mpi_rank(m) == 0) oom = solve_root(all, words / 3, &labels, &levels, &nl);
-    free(all);
+    if (!oom && pg_mpi_rank(m) == 0)
+        oom = solve_root(all, words / 3, &labels, &levels, &nl); /* frees all */
+    else
+        free(all);
     unsigned long long n64 = nl;
     int bad = oom;
     MPI_Bcast(&bad, 1, MPI_INT, 0, comm);

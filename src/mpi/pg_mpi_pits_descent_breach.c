@@ -65,10 +65,10 @@ static void dt_tree(dtree *e, const float *w) {
         for (int j = 0; j < k; j++) {
             int sk = e->orig[nb[j]] <= d->sea;
             uint32_t ord = pits_ord(sk ? -INFINITY : w[nb[j]]);
-            uint64_t gid = pg_mpi_gid(g, nb[j]);
-            if (ord < best_ord || (ord == best_ord && gid < best_gid))
-                best_ord = ord, best_gid = gid, best = nb[j];
             lower |= sk || e->orig[nb[j]] < e->orig[id];
+            if (ord > best_ord) continue;
+            uint64_t gid = pg_mpi_gid(g, nb[j]); /* only on a tie or a new best */
+            if (ord < best_ord || gid < best_gid) best_ord = ord, best_gid = gid, best = nb[j];
         }
         e->parent[id] = best;
         e->pit[id] = !lower;
