@@ -158,40 +158,89 @@ static int solve_root(gedge *all, size_t ne, uint64_t **labels_out, float **leve
     return oom;
 }
 
-/* Step 3: gather on rank 0, solve, then broadcast (labels, levels). Every rank
- * returns them. */
-static int solve_and_share(pg_mpi *m, const gedges *ev, uint64_t **labels_out, float **levels_out,
-                           size_t *nl_out) {
+/* A label and its level, as rank 0 sends them to the label's owner (16 bytes). */
+typedef struct glevel {
+    uint64_t label;
+    float level;
+    uint32_t pad;
+} glevel;
+
+/* The rank that owns a label's seed cell (label = 2 + global id). */
+static int label_owner(const pg_mpi_tiling *g, uint64_t label) {
+    const int P = pg_mpi_size(g->m), nt = 6 * g->T * g->T;
+    return pg_mpi_tile_owner(nt, P, pg_mpi_tile_of(g, (label - 2 - g->base) / g->stride));
+}
+
+/* Rank 0: every label's level, grouped by owner (each group sorted by label), with
+ * the byte counts and offsets of the groups. Nonzero when out of memory or a group
+ * exceeds 2^31 - 1 bytes. */
+static int group_by_owner(const pg_mpi_tiling *g, const uint64_t *labels, const float *levels,
+                          size_t nl, glevel **out, int *counts, int *displs) {
+    const int P = pg_mpi_size(g->m);
+    size_t *fill = calloc((size_t)P + 1, sizeof *fill);
+    glevel *v = malloc((nl + 1) * sizeof *v);
+    int bad = !fill || !v;
+    for (size_t k = 0; !bad && k < nl; k++)
+        if (labels[k] != PITS_B16_OUTLET) fill[label_owner(g, labels[k]) + 1]++;
+    for (int q = 0; !bad && q < P; q++) {
+        bad |= fill[q + 1] * sizeof *v > INT_MAX || fill[q] * sizeof *v > INT_MAX;
+        counts[q] = (int)(fill[q + 1] * sizeof *v);
+        fill[q + 1] += fill[q];
+        displs[q] = (int)(fill[q] * sizeof *v);
+    }
+    for (size_t k = 0; !bad && k < nl; k++)
+        if (labels[k] != PITS_B16_OUTLET)
+            v[fill[label_owner(g, labels[k])]++] = (glevel){labels[k], levels[k], 0};
+    free(fill);
+    if (bad) free(v), v = NULL;
+    *out = v;
+    return bad;
+}
+
+/* Step 3: gather on rank 0 and solve; then rank 0 sends each rank the levels of its
+ * own labels only (a rank's cells carry the labels of its own perimeter cells, or the
+ * outlet), so no rank holds the whole label table. Every rank returns its labels
+ * (sorted) and their levels. */
+static int solve_and_share(const pg_mpi_tiling *g, const gedges *ev, glevel **mine_out,
+                           size_t *nmine_out, double *nl_out, uint64_t *max_label) {
+    pg_mpi *m = g->m;
     const MPI_Comm comm = pg_mpi_comm_of(m);
-    size_t words = 0, nl = 0;
-    int oom = 0;
-    gedge *all = pg_mpi_gather_root(m, ev->e, ev->n * 3, MPI_UINT64_T, 8, &words, &oom);
+    const int P = pg_mpi_size(m), me = pg_mpi_rank(m);
+    MPI_Datatype edge_t;
+    MPI_Type_contiguous(3, MPI_UINT64_T, &edge_t); /* counts in edges, not words */
+    MPI_Type_commit(&edge_t);
+    size_t ne = 0, nl = 0;
+    int bad = 0;
+    gedge *all = pg_mpi_gather_root(m, ev->e, ev->n, edge_t, sizeof(gedge), &ne, &bad);
+    MPI_Type_free(&edge_t);
     uint64_t *labels = NULL;
     float *levels = NULL;
-    if (!oom && pg_mpi_rank(m) == 0)
-        oom = solve_root(all, words / 3, &labels, &levels, &nl); /* frees all */
-    else
+    glevel *byowner = NULL, *mine = NULL;
+    int *counts = calloc(2 * (size_t)P + 1, sizeof *counts), mycount = 0;
+    if (!bad && me == 0) {
+        bad = solve_root(all, ne, &labels, &levels, &nl); /* frees all */
+        bad = bad || !counts || group_by_owner(g, labels, levels, nl, &byowner, counts, counts + P);
+        *max_label = nl ? labels[nl - 1] : 0;
+    } else {
         free(all);
-    unsigned long long n64 = nl;
-    int bad = oom;
+    }
+    free(labels), free(levels);
     MPI_Bcast(&bad, 1, MPI_INT, 0, comm);
-    MPI_Bcast(&n64, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
-    if (!bad && n64 > INT_MAX) bad = 1;
-    nl = (size_t)n64;
-    if (!bad && pg_mpi_rank(m) != 0) {
-        labels = malloc((nl + 1) * sizeof *labels);
-        levels = malloc((nl + 1) * sizeof *levels);
+    unsigned long long sh[2] = {nl, *max_label};
+    MPI_Bcast(sh, 2, MPI_UNSIGNED_LONG_LONG, 0, comm);
+    *nl_out = (double)sh[0], *max_label = sh[1];
+    if (!bad) MPI_Scatter(counts, 1, MPI_INT, &mycount, 1, MPI_INT, 0, comm);
+    mine = bad ? NULL : malloc((size_t)mycount + sizeof *mine);
+    bad = pg_mpi_max_int(m, bad || !mine);
+    if (!bad) {
+        MPI_Scatterv(byowner, counts, counts + P, MPI_BYTE, mine, mycount, MPI_BYTE, 0, comm);
+        if (me == 0) /* what rank 0 sends to the others */
+            pg_mpi_note_pits_bytes(m, (double)(sh[0] * sizeof *mine) - (double)counts[0]);
     }
-    int local_bad = !bad && (!labels || !levels);
-    MPI_Allreduce(&local_bad, &oom, 1, MPI_INT, MPI_MAX, comm);
-    if (!bad && !oom) {
-        MPI_Bcast(labels, (int)nl, MPI_UINT64_T, 0, comm);
-        MPI_Bcast(levels, (int)nl, MPI_FLOAT, 0, comm);
-        if (pg_mpi_rank(m) == 0) /* what rank 0 sends to each of the others */
-            pg_mpi_note_pits_bytes(m, 12.0 * (double)nl * (pg_mpi_size(m) - 1));
-    }
-    *labels_out = labels, *levels_out = levels, *nl_out = nl;
-    return bad || oom;
+    free(byowner), free(counts);
+    if (bad) free(mine), mine = NULL;
+    *mine_out = mine, *nmine_out = bad ? 0 : (size_t)mycount / sizeof *mine;
+    return bad;
 }
 
 pg_status pg_mpi_pits_check_fill(const pg_pits_opts *o, pg_error *err) {
@@ -226,12 +275,26 @@ static int flood_tiles(pg_mpi_pits_grid *d, uint32_t *label, gedges *ev) {
     return oom;
 }
 
+/* The level of a label of this rank (mine: its labels, sorted): the outlet's is -inf. */
+static float level_of(const glevel *mine, size_t n, uint64_t label) {
+    if (label == PITS_B16_OUTLET) return -INFINITY;
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (mine[mid].label < label)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && mine[lo].label == label ? mine[lo].level : INFINITY;
+}
+
 /* Step 4: raise this rank's cells to their label's level. */
-static void apply_levels(pg_mpi_pits_grid *d, const uint32_t *label, const uint64_t *labels,
-                         const float *levels, size_t nl, pg_mpi_pits_info *info) {
+static void apply_levels(pg_mpi_pits_grid *d, const uint32_t *label, const glevel *mine, size_t n,
+                         pg_mpi_pits_info *info) {
     PG_MPI_FOR_OWNED(d->g, l) {
         if (pg_mpi_pits_sink(d, l)) continue;
-        float lv = levels[pits_sorted_index_u64(labels, nl, global_label(d, label[l]))];
+        float lv = level_of(mine, n, global_label(d, label[l]));
         if (lv > d->h[l] && lv < INFINITY) d->h[l] = lv, info->raised++;
     }
 }
@@ -252,17 +315,14 @@ pg_status pg_mpi_pits_fill_local(pg_mpi_pits_grid *d, const pg_pits_opts *o, pg_
     info->flood_seconds = MPI_Wtime() - t_start;
     info->edges = (double)ev.n;
     oom = pg_mpi_max_int(m, oom);
-    uint64_t *labels = NULL;
-    float *levels = NULL;
-    size_t nl = 0;
+    glevel *mine = NULL;
+    size_t nmine = 0;
     t_start = MPI_Wtime();
-    if (!oom) oom = solve_and_share(m, &ev, &labels, &levels, &nl);
+    if (!oom) oom = solve_and_share(d->g, &ev, &mine, &nmine, &info->labels, &info->max_label);
     info->solve_seconds = MPI_Wtime() - t_start;
-    info->labels = (double)nl;
-    info->max_label = !oom && nl ? labels[nl - 1] : 0;
     free(ev.e);
-    if (!oom) apply_levels(d, label, labels, levels, nl, info);
-    free(label), free(labels), free(levels);
+    if (!oom) apply_levels(d, label, mine, nmine, info);
+    free(label), free(mine);
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits (MPI): out of memory");
     if (o->epsilon) return pg_mpi_pits_eps_rounds(d, info, err);
     return pg_mpi_ring_exchange(d->g, d->h, sizeof *d->h, err);
