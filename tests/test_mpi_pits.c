@@ -229,6 +229,16 @@ static void test_preconditions(void **state) {
     o.has_sea_level = true;
     assert_int_equal(pg_mpi_pits_fill(NULL, 1, 4, h, &o, &info, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "fill method"));
+    /* a rank whose cells exceed its 32-bit local ids is refused before anything is
+     * allocated or read (h is not even a planet here): 6 x 65536^2 cells on one rank */
+    o.method = PG_PITS_FILL;
+    err = (pg_error){0};
+    assert_int_equal(pg_mpi_pits_fill(NULL, 64, 65536, h, &o, &info, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "local ids of one rank: use more ranks"));
+    o.method = PG_PITS_BREACH, o.descent = true, o.epsilon = true;
+    err = (pg_error){0};
+    assert_int_equal(pg_mpi_pits_remove(NULL, 64, 65536, h, &o, &info, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "25769803776 cells"));
 }
 
 static int setup(void **state) {
