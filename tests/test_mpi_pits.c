@@ -4,7 +4,8 @@
  * fill, with epsilon the minimal epsilon-surface (reached in rounds of ring
  * exchanges, which must take more than one round on these DEMs), breach and hybrid
  * along the descent tree (rounds of tokens), and the depression statistics
- * (pg_mpi_pits_stats: the same counts as pg_pits_stats_compute).
+ * (pg_mpi_pits_stats: the same counts as pg_pits_stats_compute), also with every
+ * global id above 2^32.
  *
  * The test program is its own MPI worker: the cmocka tests run
  * `mpirun -np N THIS --worker n T seed eps`; each rank builds the same DEM, fills it both
@@ -26,13 +27,16 @@
 static const char *self;
 static char out[8192];
 
-/* Rolling terrain with hashed noise: an ocean below 0, many closed pits above. */
+/* Rolling terrain with hashed noise: an ocean below 0, many closed pits above. Seeds
+ * from 100 on: the same terraced in steps of 60 m, whose flats give the descent tree
+ * many ties of W that only the global ids decide. */
 static float dem(uint32_t id, uint32_t n, uint32_t seed) {
     uint32_t per = n * n, f = id / per, y = id % per / n, x = id % n;
     uint32_t z = (id + 1) * 2654435761u ^ seed * 2246822519u;
     z ^= z >> 15, z *= 2246822519u, z ^= z >> 13;
     double s = 600.0 * sin(0.21 * x + f) * cos(0.17 * y - 0.5 * f) + 150.0 * f - 200.0;
-    return (float)(s + (double)(z % 1000) * 0.4);
+    s += (double)(z % 1000) * 0.4;
+    return (float)(seed >= 100 ? floor(s / 60.0) * 60.0 : s);
 }
 
 /* The distributed DEM as generate hands it over: each rank's own tiles hold the heights;
@@ -105,8 +109,9 @@ static int worker(uint32_t n, int T, uint32_t seed, int mode) {
     double labels = info.labels;
     if (me == 0)
         printf("ranks %d tiles %d mode %d: differing cells %.0f, raised cells %.0f, lowered "
-               "cells %.0f, labels %.0f, epsilon rounds %d, breach rounds %d\n",
-               P, nt, mode, diff, raised, lowered, labels, info.eps_rounds, info.breach_rounds);
+               "cells %.0f, labels %.0f, epsilon rounds %d, breach rounds %d, max label %llu\n",
+               P, nt, mode, diff, raised, lowered, labels, info.eps_rounds, info.breach_rounds,
+               (unsigned long long)info.max_label);
     /* the depression statistics of the original DEM, serial and distributed */
     int stats_ok = 1;
     if (mode == 0 && !rc) {
@@ -125,10 +130,11 @@ static int worker(uint32_t n, int T, uint32_t seed, int mode) {
             fabs(a.depression_volume_m3 - b.depression_volume_m3) <= 1e-9 * a.depression_volume_m3;
         if (me == 0)
             printf("stats: serial %llu depressions %llu cells deepest %.4f volume %.6g, "
-                   "distributed %llu %llu %.4f %.6g: %s\n",
+                   "distributed %llu %llu %.4f %.6g sinks %llu %llu: %s\n",
                    (unsigned long long)a.depressions, (unsigned long long)a.depression_cells,
                    a.max_depth_m, a.depression_volume_m3, (unsigned long long)b.depressions,
                    (unsigned long long)b.depression_cells, b.max_depth_m, b.depression_volume_m3,
+                   (unsigned long long)a.sinks, (unsigned long long)b.sinks,
                    stats_ok ? "same" : "DIFFERENT");
     }
     free(h), free(ref);
@@ -137,15 +143,15 @@ static int worker(uint32_t n, int T, uint32_t seed, int mode) {
 }
 
 /* Under scripts/valgrind-suite every rank runs under memcheck too (PG_EXEC_WRAPPER). */
-static int run_workers(int np, uint32_t n, int T, uint32_t seed, int mode) {
+static int run_workers(int np, uint32_t n, int T, uint32_t seed, int mode, const char *env) {
     char cmd[4096], outp[256];
     const char *wrap = getenv("PG_EXEC_WRAPPER");
     snprintf(outp, sizeof outp, "/tmp/pg_mpi_pits.%d", (int)getpid());
     snprintf(cmd, sizeof cmd,
              "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 mpirun --oversubscribe -np %d -x "
-             "OMP_NUM_THREADS=1 %s '%s' --worker %u %d %u %d >%s "
+             "OMP_NUM_THREADS=1 %s %s '%s' --worker %u %d %u %d >%s "
              "2>&1 </dev/null",
-             np, wrap && *wrap ? wrap : "", self, n, T, seed, mode, outp);
+             np, env, wrap && *wrap ? wrap : "", self, n, T, seed, mode, outp);
     int st = system(cmd);
     FILE *f = fopen(outp, "r");
     size_t k = f ? fread(out, 1, sizeof out - 1, f) : 0;
@@ -158,18 +164,27 @@ static int run_workers(int np, uint32_t n, int T, uint32_t seed, int mode) {
 /* min_rounds 3: round 2 changed cells (ring values from round 1 mattered), round 3
  * confirmed; one round alone would have left those cells wrong. The same for the
  * breach's token rounds. */
-static void expect_same(int np, uint32_t n, int T, uint32_t seed, int min_rounds) {
+static void expect_same_env(int np, uint32_t n, int T, uint32_t seed, int min_rounds,
+                            const char *env) {
     static const char *names[] = {"fill", "fill eps", "breach", "hybrid"};
     for (int mode = 0; mode < 4; mode++) {
-        int rc = run_workers(np, n, T, seed, mode);
+        int rc = run_workers(np, n, T, seed, mode, env);
         if (rc != 0 || !strstr(out, "differing cells 0"))
-            fail_msg("mpirun -np %d, n %u, T %d, %s: exit %d: %s", np, n, T, names[mode], rc, out);
+            fail_msg("mpirun -np %d, n %u, T %d, %s %s: exit %d: %s", np, n, T, names[mode], env,
+                     rc, out);
+        const char *ml = strstr(out, "max label ");
+        if (*env && (!ml || strtoull(ml + 10, NULL, 10) <= 0xFFFFFFFFull))
+            fail_msg("%s: the labels stayed below 2^32: %s", env, out);
         print_message("%s", out);
         const char *r = strstr(out, mode >= 2 ? "breach rounds " : "epsilon rounds ");
         if (mode && (!r || atoi(r + (mode >= 2 ? 14 : 15)) < min_rounds))
             fail_msg("mpirun -np %d, %s: expected %d rounds at least: %s", np, names[mode],
                      min_rounds, out);
     }
+}
+
+static void expect_same(int np, uint32_t n, int T, uint32_t seed, int min_rounds) {
+    expect_same_env(np, n, T, seed, min_rounds, "");
 }
 
 static void test_one_rank(void **state) {
@@ -189,6 +204,19 @@ static void test_four_ranks(void **state) {
     expect_same(4, 32, 8, 5, 3); /* tiles of 4 x 4 texels: most cells on a perimeter */
 }
 
+/* 64-bit global ids (docs/mpi.md, "Pit removal across ranks"): terraced planets (flats:
+ * many ties that the ids decide) with every global cell id moved above 2^32
+ * (pg_mpi_testing.h) give the serial bits and counts. First a base that makes the ids
+ * cross 2^32 inside the planet (a tie-break cut to 32 bits flips there: 18 cells
+ * differ), then ids B + 2^32 c: cut to 32 bits they would all be B mod 2^32, so a
+ * truncated label, tie-break id, ring parent or cross-rank label pair merges them
+ * (labels: 208 cells differ; region labels: 176 depressions instead of 175). */
+static void test_ids_above_2_32(void **state) {
+    (void)state;
+    expect_same_env(2, 48, 3, 102, 1, "-x PG_MPI_TEST_ID_BASE=4294960000");
+    expect_same_env(4, 32, 8, 105, 3, "-x PG_MPI_TEST_ID_BASE=12884914233:4294967296");
+}
+
 /* The preconditions are refused, not silently broken. */
 static void test_preconditions(void **state) {
     (void)state;
@@ -201,6 +229,16 @@ static void test_preconditions(void **state) {
     o.has_sea_level = true;
     assert_int_equal(pg_mpi_pits_fill(NULL, 1, 4, h, &o, &info, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "fill method"));
+    /* a rank whose cells exceed its 32-bit local ids is refused before anything is
+     * allocated or read (h is not even a planet here): 6 x 65536^2 cells on one rank */
+    o.method = PG_PITS_FILL;
+    err = (pg_error){0};
+    assert_int_equal(pg_mpi_pits_fill(NULL, 64, 65536, h, &o, &info, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "local ids of one rank: use more ranks"));
+    o.method = PG_PITS_BREACH, o.descent = true, o.epsilon = true;
+    err = (pg_error){0};
+    assert_int_equal(pg_mpi_pits_remove(NULL, 64, 65536, h, &o, &info, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "25769803776 cells"));
 }
 
 static int setup(void **state) {
@@ -216,10 +254,9 @@ int main(int argc, char **argv) {
                       atoi(argv[5]));
     self = argv[0];
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_preconditions),
-        cmocka_unit_test(test_one_rank),
-        cmocka_unit_test(test_two_ranks),
-        cmocka_unit_test(test_four_ranks),
+        cmocka_unit_test(test_preconditions),  cmocka_unit_test(test_one_rank),
+        cmocka_unit_test(test_two_ranks),      cmocka_unit_test(test_four_ranks),
+        cmocka_unit_test(test_ids_above_2_32),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -91,12 +91,14 @@ const pg_mpi_stats *pg_mpi_stats_get(const pg_mpi *m);
 
 /* Distributed plain depression filling on the cube sphere (Barnes 2016, "Flexibly
  * distributed Priority-Flood depression filling for teracell DEMs";
- * src/mpi/pg_mpi_pits_barnes2016.c): each rank floods its tiles, builds the spill graph over
- * their perimeters, rank 0 solves it, every rank applies it. h holds the planet's 6 n^2
- * heights (pg_pits cube ids) in this rank's address space, of which only the rank's
- * tiles (n / tiles texels square, owned as pg_mpi_tile_owner says) need be valid; they
- * come out bit-identical to pg_pits_remove's fill, and a one-cell ring around them
- * is overwritten with the neighbours' heights. With o->epsilon the plain fill is then
+ * src/mpi/pg_mpi_pits_barnes2016_fill.c): each rank floods its tiles, builds the spill
+ * graph over their perimeters, rank 0 solves it, every rank applies it. h is the
+ * planet's 6 n^2 heights (cube ids, 64-bit: any n up to 65536 and beyond) in this rank's
+ * address space, of which only the rank's tiles (n / tiles texels square, owned as
+ * pg_mpi_tile_owner says) are read and written: no other cell of h is touched, so h may
+ * be a lazily committed planet-sized range. They come out bit-identical to
+ * pg_pits_remove's fill. Every buffer is tile-local (docs/mpi.md, "Pit removal across
+ * ranks": bytes per owned cell). With o->epsilon the plain fill is then
  * lifted to the minimal epsilon-surface (pg_pits_planchon2002_minimal_eps.c) in rounds:
  * every rank floods its tiles from the current ring, until no rank's cells change; the
  * surface is the unique solution of its equation, so it is the serial one bit for bit.
@@ -106,11 +108,12 @@ typedef struct pg_mpi_pits_info {
     double flood_seconds, solve_seconds; /* steps 1-2 on this rank; 3-4 (rank 0 solving) */
     double edges;                        /* spill-graph edges this rank sent */
     double labels;                       /* labels of the whole graph */
-    uint64_t raised;                     /* cells of this rank raised (by the plain fill) */
-    int eps_rounds;                      /* epsilon: ring exchanges until nothing changed */
-    double eps_seconds;                  /* epsilon: time of those rounds on this rank */
-    int breach_rounds;                   /* breach/hybrid: token rounds until nothing changed */
-    double breach_seconds;               /* breach/hybrid: the whole removal on this rank */
+    uint64_t max_label;    /* its largest label: 2 + a global cell id (64-bit; docs/mpi.md) */
+    uint64_t raised;       /* cells of this rank raised (by the plain fill) */
+    int eps_rounds;        /* epsilon: ring exchanges until nothing changed */
+    double eps_seconds;    /* epsilon: time of those rounds on this rank */
+    int breach_rounds;     /* breach/hybrid: token rounds until nothing changed */
+    double breach_seconds; /* breach/hybrid: the whole removal on this rank */
 } pg_mpi_pits_info;
 pg_status pg_mpi_pits_fill(pg_mpi *m, int tiles, uint32_t n, float *h, const pg_pits_opts *o,
                            pg_mpi_pits_info *info, pg_error *err);

@@ -42,20 +42,38 @@ extern "C" {
 
 /* ---- topology ------------------------------------------------------------------ */
 
-typedef enum pg_pits_topo_kind { PG_PITS_GRID = 0, PG_PITS_CUBE = 1 } pg_pits_topo_kind;
+/* PG_PITS_BLOCKS: square blocks of w x w cells (one "face" each, laid one after the
+ * other), whose interior takes the fast path below and whose border cells ask the
+ * function `border` of the caller (the tile-local arrays of the distributed pits,
+ * src/mpi/pg_mpi_ring.c, whose border neighbours lie in other blocks or in a ring of
+ * cells after the blocks). Made by pg_pits_topo_blocks. */
+typedef enum pg_pits_topo_kind {
+    PG_PITS_GRID = 0,
+    PG_PITS_CUBE = 1,
+    PG_PITS_BLOCKS = 2
+} pg_pits_topo_kind;
+
+typedef int (*pg_pits_border_fn)(const void *ctx, uint32_t id, uint32_t out[8]);
 
 /* A cell topology. Plain data, no allocation: make it with pg_pits_topo_grid/cube. */
 typedef struct pg_pits_topo {
     pg_pits_topo_kind kind;
-    uint32_t w, h;          /* grid: width and height; cube: w = h = N (face size) */
-    uint32_t nfaces;        /* 1 for a grid, 6 for the cube */
-    uint64_t ncells;        /* w*h*nfaces, < 2^32 */
-    double inv_w, inv_face; /* 1/w and 1/(w*h): division-free coordinates */
-    pg_cube_grid cube;      /* cube only: the seam map of pg_cube.h (T = N, S = 1) */
+    uint32_t w, h;            /* grid: width and height; cube: w = h = N (face size) */
+    uint32_t nfaces;          /* 1 for a grid, 6 for the cube */
+    uint64_t ncells;          /* w*h*nfaces, < 2^32 */
+    double inv_w, inv_face;   /* 1/w and 1/(w*h): division-free coordinates */
+    pg_cube_grid cube;        /* cube only: the seam map of pg_cube.h (T = N, S = 1) */
+    pg_pits_border_fn border; /* blocks only: the neighbours of a block's border cell */
+    const void *border_ctx;
 } pg_pits_topo;
 
 pg_status pg_pits_topo_grid(pg_pits_topo *t, uint32_t w, uint32_t h, pg_error *err);
 pg_status pg_pits_topo_cube(pg_pits_topo *t, uint32_t n, pg_error *err);
+/* nblocks blocks of w x w cells (ids block * w^2 + y * w + x) and `extra` more cells
+ * after them that the algorithms never ask the neighbours of; border(ctx, id, out)
+ * gives a border cell's neighbours (any ids below ncells). */
+pg_status pg_pits_topo_blocks(pg_pits_topo *t, uint32_t w, uint32_t nblocks, uint32_t extra,
+                              pg_pits_border_fn border, const void *ctx, pg_error *err);
 
 /* Neighbours of a cell on a face border (or the grid border): writes up to 8 ids to
  * out and returns how many (grid: 3/5/8; cube: 8, or 7 at a cube-corner texel). */

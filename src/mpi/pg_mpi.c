@@ -27,6 +27,7 @@
 #include "pg_mpi_comm.h"
 #include "pg_mpi_testing.h"
 
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -82,6 +83,9 @@ pg_status pg_mpi_init(pg_mpi **out, pg_error *err) {
     MPI_Comm_rank(m->comm, &m->rank);
     MPI_Comm_size(m->comm, &m->size);
     m->fail_rank = -1;
+    const char *base = getenv(PG_MPI_TESTING_ID_BASE_ENV);
+    if (base && sscanf(base, "%" SCNu64 ":%" SCNu64, &m->id_base, &m->id_stride) < 1)
+        m->id_base = 0, m->id_stride = 0;
     *out = m;
     return PG_OK;
 }

@@ -45,6 +45,7 @@ struct pg_mpi {
     int rank, size;
     int tiles, ntiles;
     int fail_rank, fail_scale;
+    uint64_t id_base, id_stride; /* tests only: pg_mpi_testing.h */
     struct pg_mpi_plan *pl;
     pg_mpi_stats stats;
 };
@@ -60,60 +61,87 @@ void *pg_mpi_gather_root(pg_mpi *m, const void *mine, size_t words, MPI_Datatype
                          size_t word_bytes, size_t *total, int *bad);
 
 /* ---- a rank's cube tiles and the ring around them (pg_mpi_ring.c) ----
- * The cube (pg_pits cube ids: face * n^2 + y * n + x) cut into tiles x tiles tiles per
- * face, numbered face-major and owned as pg_mpi_tile_owner says. */
+ * The cube (cube ids: face * n^2 + y * n + x, 64-bit: 6 x 65536^2 cells and more) cut
+ * into tiles x tiles tiles per face, numbered face-major and owned as
+ * pg_mpi_tile_owner says. The distributed pits keep a rank's cells in tile-local
+ * arrays (local ids, 32-bit): its tiles one after the other (tile t0 + i holds the
+ * local ids i * ts^2 + y * ts + x), then its ring (the cells of other ranks next to
+ * its tiles, sorted by cube id): nown + nring cells, never the planet's. */
 typedef struct pg_mpi_tiling {
     pg_mpi *m;
-    const pg_pits_topo *t;
-    int T;          /* tiles per face edge */
-    uint32_t n, ts; /* texels per face edge, per tile edge */
-    int ln, lts;    /* log2 of n and ts when both are powers of two, else -1 */
-    int t0, t1;     /* this rank's tiles [t0, t1) */
+    int T;                 /* tiles per face edge */
+    uint32_t n, ts;        /* texels per face edge, per tile edge */
+    int ln, lts;           /* log2 of n and ts when both are powers of two, else -1 */
+    int t0, t1;            /* this rank's tiles [t0, t1) */
+    uint64_t base, stride; /* global id of cube id c: base + stride * c (0 and 1; tests:
+                              above 2^32, pg_mpi_testing.h) */
+    pg_cube_grid cube;     /* the seam map of the whole cube (T = n, S = 1) */
+    pg_pits_topo t;        /* the local topology: the tiles as blocks, the ring after */
+    uint32_t nown, nring;
+    size_t nloc;             /* nown + nring */
+    uint64_t *ring;          /* cube ids of the ring cells, sorted */
+    pg_mpi_idx *send, *recv; /* per rank: local ids sent and received, in cube-id order */
 } pg_mpi_tiling;
 
-/* The cube topology of n texels per face edge into topo, and its tiling; BADINPUT when
- * the tiles do not divide n. */
-pg_status pg_mpi_tiling_init(pg_mpi_tiling *g, pg_pits_topo *topo, pg_mpi *m, int tiles, uint32_t n,
-                             pg_error *err);
+/* The tiling of n texels per face edge into g, with this rank's ring and exchange
+ * plan; BADINPUT when the tiles do not divide n or a rank's cells exceed local ids.
+ * Free with pg_mpi_tiling_free. Collective only in the sense that every rank must call
+ * it (no communication). */
+pg_status pg_mpi_tiling_init(pg_mpi_tiling *g, pg_mpi *m, int tiles, uint32_t n, pg_error *err);
+void pg_mpi_tiling_free(pg_mpi_tiling *g);
 
-/* The tile of a cell: called for every neighbour of every cell, so shifts when the
- * sizes allow (divisions took a third of the distributed fill's time). */
-static inline int pg_mpi_tile_of(const pg_mpi_tiling *g, uint32_t id) {
-    uint32_t T = (uint32_t)g->T;
+/* The tile of a cube id: called for the neighbours of every border cell, so shifts
+ * when the sizes allow. */
+static inline int pg_mpi_tile_of(const pg_mpi_tiling *g, uint64_t id) {
+    uint64_t T = (uint64_t)g->T;
     if (g->ln >= 0) {
-        uint32_t f = id >> (2 * g->ln), y = (id >> g->ln) & (g->n - 1), x = id & (g->n - 1);
+        uint64_t f = id >> (2 * g->ln), y = (id >> g->ln) & (g->n - 1), x = id & (g->n - 1);
         return (int)(f * T * T + (y >> g->lts) * T + (x >> g->lts));
     }
-    uint32_t per = g->n * g->n, f = id / per, y = id % per / g->n, x = id % g->n;
+    uint64_t per = (uint64_t)g->n * g->n, f = id / per, y = id % per / g->n, x = id % g->n;
     return (int)(f * T * T + y / g->ts * T + x / g->ts);
 }
 
-/* The id of texel (x, y) of tile t. */
-static inline uint32_t pg_mpi_tile_cell(const pg_mpi_tiling *g, int t, uint32_t x, uint32_t y) {
-    uint32_t T = (uint32_t)g->T, f = (uint32_t)t / (T * T), tx = (uint32_t)t % T,
-             ty = (uint32_t)t / T % T;
+/* The cube id of texel (x, y) of tile t. */
+static inline uint64_t pg_mpi_tile_cell(const pg_mpi_tiling *g, int t, uint32_t x, uint32_t y) {
+    uint64_t T = (uint64_t)g->T, f = (uint64_t)t / (T * T), tx = (uint64_t)t % T,
+             ty = (uint64_t)t / T % T;
     return f * g->n * g->n + (ty * g->ts + y) * g->n + tx * g->ts + x;
 }
 
-/* Is the cell in one of this rank's tiles? */
-static inline int pg_mpi_owned(const pg_mpi_tiling *g, uint32_t id) {
-    int t = pg_mpi_tile_of(g, id);
-    return t >= g->t0 && t < g->t1;
+/* The cube id of a local id (owned or ring). */
+static inline uint64_t pg_mpi_cube_id(const pg_mpi_tiling *g, uint32_t l) {
+    if (l >= g->nown) return g->ring[l - g->nown];
+    uint32_t per = g->ts * g->ts, i = l / per, r = l % per;
+    return pg_mpi_tile_cell(g, g->t0 + (int)i, r % g->ts, r / g->ts);
 }
 
-/* Every cell id of the tiles [t0, t1): tile by tile, row by row. */
-#define PG_MPI_FOR_TILE_CELLS(g, t0, t1, id)                                                       \
-    for (int t_ = (t0); t_ < (t1); t_++)                                                           \
-        for (uint32_t y_ = 0; y_ < (g)->ts; y_++)                                                  \
-            for (uint32_t x_ = 0, id = pg_mpi_tile_cell((g), t_, 0, y_); x_ < (g)->ts;             \
-                 x_++, id = pg_mpi_tile_cell((g), t_, x_, y_))
+/* The global id of a local id: what labels, tie-breaks and cross-rank pairs use. */
+static inline uint64_t pg_mpi_gid(const pg_mpi_tiling *g, uint32_t l) {
+    return g->base + g->stride * pg_mpi_cube_id(g, l);
+}
 
-/* Every cell id of this rank's tiles. */
-#define PG_MPI_FOR_OWNED(g, id) PG_MPI_FOR_TILE_CELLS(g, (g)->t0, (g)->t1, id)
+/* The local id of a cube id, UINT32_MAX when neither owned nor in the ring. */
+uint32_t pg_mpi_local_of(const pg_mpi_tiling *g, uint64_t id);
 
-/* Every rank's ring cells (the cells of other ranks next to its tiles) get their
- * owners' values of arr (one element of elem bytes per cell id). Collective. */
+/* Every local id of this rank's own cells. */
+#define PG_MPI_FOR_OWNED(g, l) for (uint32_t l = 0; l < (g)->nown; l++)
+
+/* Copy this rank's cells of the caller's planet-sized array (float per cube id) into
+ * the local array, and back; nothing else of the planet array is touched. */
+void pg_mpi_tiling_load(const pg_mpi_tiling *g, const float *planet, float *local);
+void pg_mpi_tiling_store(const pg_mpi_tiling *g, const float *local, float *planet);
+
+/* Every rank's ring cells (local ids nown..) get their owners' values of arr (nloc
+ * elements of elem bytes). Collective. */
 pg_status pg_mpi_ring_exchange(const pg_mpi_tiling *g, void *arr, size_t elem, pg_error *err);
+
+/* The same with the sent values made by pack(ctx, local id, out) and the received
+ * ones written to ring_out[k] (nring elements): for values wider than the local array
+ * (64-bit ids of 32-bit local references). Collective. */
+typedef void (*pg_mpi_pack_fn)(const void *ctx, uint32_t l, void *out);
+pg_status pg_mpi_ring_exchange_packed(const pg_mpi_tiling *g, size_t elem, pg_mpi_pack_fn pack,
+                                      const void *ctx, void *ring_out, pg_error *err);
 
 #endif
 

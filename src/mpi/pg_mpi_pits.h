@@ -15,25 +15,23 @@
 
 #ifdef PG_HAVE_MPI
 
-/* The planet's heights h (6 n^2, pg_pits cube ids; valid on this rank's tiles) cut
- * into tiles; sinks are the cells at or below the sea level. */
+/* A rank's heights in tile-local arrays (pg_mpi_comm.h): h holds nloc floats, its
+ * tiles then its ring; sinks are the cells at or below the sea level. */
 typedef struct pg_mpi_pits_grid {
-    pg_mpi_tiling g;
+    const pg_mpi_tiling *g;
     float *h;
     double sea;
 } pg_mpi_pits_grid;
 
-static inline bool pg_mpi_pits_sink(const pg_mpi_pits_grid *d, uint32_t id) {
-    return d->h[id] <= d->sea;
+static inline bool pg_mpi_pits_sink(const pg_mpi_pits_grid *d, uint32_t l) {
+    return d->h[l] <= d->sea;
 }
 
-/* The tiling of h (topo receives the cube topology) with o's sea level. */
-static inline pg_status pg_mpi_pits_grid_init(pg_mpi_pits_grid *d, pg_pits_topo *topo, pg_mpi *m,
-                                              int tiles, uint32_t n, float *h,
-                                              const pg_pits_opts *o, pg_error *err) {
-    d->h = h, d->sea = o->sea_level;
-    return pg_mpi_tiling_init(&d->g, topo, m, tiles, n, err);
-}
+/* The plain fill (with o->epsilon, the minimal epsilon-surface) of the local heights
+ * d->h, whose ring need not be current; afterwards the ring holds the owners' values.
+ * Collective. */
+pg_status pg_mpi_pits_fill_local(pg_mpi_pits_grid *d, const pg_pits_opts *o, pg_mpi_pits_info *info,
+                                 pg_error *err);
 
 /* BADINPUT unless o asks for the fill with a sea level, no lakes and no no-data. */
 pg_status pg_mpi_pits_check_fill(const pg_pits_opts *o, pg_error *err);

@@ -184,21 +184,21 @@ int pits_b16_solve(const pits_b16_edges *ev, size_t nev, size_t nl, uint32_t sou
     return oom;
 }
 
-static int cmp_u32(const void *x, const void *y) {
-    uint32_t a = *(const uint32_t *)x, b = *(const uint32_t *)y;
+static int cmp_u64(const void *x, const void *y) {
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
     return a < b ? -1 : a > b;
 }
 
-size_t pits_sort_unique_u32(uint32_t *a, size_t n) {
+size_t pits_sort_unique_u64(uint64_t *a, size_t n) {
     if (!n) return 0;
-    qsort(a, n, sizeof *a, cmp_u32);
+    qsort(a, n, sizeof *a, cmp_u64);
     size_t k = 1;
     for (size_t i = 1; i < n; i++)
         if (a[i] != a[k - 1]) a[k++] = a[i];
     return k;
 }
 
-uint32_t pits_sorted_index(const uint32_t *a, size_t n, uint32_t v) {
+size_t pits_sorted_index_u64(const uint64_t *a, size_t n, uint64_t v) {
     size_t lo = 0, hi = n;
     while (lo < hi) {
         size_t mid = (lo + hi) / 2;
@@ -207,5 +207,5 @@ uint32_t pits_sorted_index(const uint32_t *a, size_t n, uint32_t v) {
         else
             hi = mid;
     }
-    return (uint32_t)lo;
+    return lo;
 }

@@ -77,9 +77,10 @@ int pits_b16_solve(const pits_b16_edges *ev, size_t nev, size_t nl, uint32_t sou
 
 /* ---- sorted tables of labels (the MPI forms index labels by binary search) ---- */
 
-/* Sort a[0..n) and drop repeats; returns the new count. */
-size_t pits_sort_unique_u32(uint32_t *a, size_t n);
+/* Sort a[0..n) and drop repeats; returns the new count (labels: 64-bit global ids of
+ * the distributed pits). */
+size_t pits_sort_unique_u64(uint64_t *a, size_t n);
 /* The index of v in the sorted a[0..n) (where it would go when absent). */
-uint32_t pits_sorted_index(const uint32_t *a, size_t n, uint32_t v);
+size_t pits_sorted_index_u64(const uint64_t *a, size_t n, uint64_t v);
 
 #endif

@@ -32,6 +32,26 @@ pg_status pg_pits_topo_grid(pg_pits_topo *t, uint32_t w, uint32_t h, pg_error *e
     return topo_init(t, PG_PITS_GRID, w, h, 1, err);
 }
 
+pg_status pg_pits_topo_blocks(pg_pits_topo *t, uint32_t w, uint32_t nblocks, uint32_t extra,
+                              pg_pits_border_fn border, const void *ctx, pg_error *err) {
+    uint64_t n = (uint64_t)w * w * nblocks + extra;
+    if (w == 0 || !border)
+        return pg_error_set(err, PG_ERR_BADINPUT, "pits: empty blocks or no border function");
+    if (n >= 0xFFFFFFFFull)
+        return pg_error_set(err, PG_ERR_BADINPUT, "pits: %llu cells exceed the 2^32-1 cell limit",
+                            (unsigned long long)n);
+    *t = (pg_pits_topo){.kind = PG_PITS_BLOCKS,
+                        .w = w,
+                        .h = w,
+                        .nfaces = nblocks ? nblocks : 1,
+                        .ncells = n,
+                        .inv_w = 1.0 / w,
+                        .inv_face = 1.0 / ((double)w * w),
+                        .border = border,
+                        .border_ctx = ctx};
+    return PG_OK;
+}
+
 pg_status pg_pits_topo_cube(pg_pits_topo *t, uint32_t n, pg_error *err) {
     if (n < 2) return pg_error_set(err, PG_ERR_BADINPUT, "pits: cube face size %u < 2", n);
     pg_status s = topo_init(t, PG_PITS_CUBE, n, n, 6, err);
@@ -40,6 +60,7 @@ pg_status pg_pits_topo_cube(pg_pits_topo *t, uint32_t n, pg_error *err) {
 }
 
 int pg_pits_neighbours_slow(const pg_pits_topo *t, uint32_t id, uint32_t out[8]) {
+    if (t->kind == PG_PITS_BLOCKS) return t->border(t->border_ctx, id, out);
     int W = (int)t->w, H = (int)t->h, k = 0;
     uint32_t fsz = t->w * t->h, f = id / fsz, r = id % fsz;
     int x = (int)(r % t->w), y = (int)(r / t->w);
