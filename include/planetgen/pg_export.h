@@ -160,6 +160,11 @@ bool pg_export_viewer_available(void);
 pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
                                  pg_error *err);
 
+/* The same for a tiled planet's .glb set (pg_export_tiles_glb): viewer.json lists the n
+ * URLs under "tiles", and the page loads them all into one globe. */
+pg_status pg_export_viewer_write_tiles(const char *const *urls, int n, pg_planet_path_fn path_for,
+                                       void *user, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif
