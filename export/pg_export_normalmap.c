@@ -67,11 +67,15 @@ static double detail_wrapped(const nm_ctx *c, int face, int64_t x, int64_t y, co
     return detail(c, (int)(id / nn), t % n, t / n);
 }
 
-/* Metres per texel along u and v at the centres of a SPACING_GRID^2 grid. */
-static void spacing_table(const pg_planet *p, int face, double *su, double *sv) {
+/* Metres per texel along u and v at the centres of a SPACING_GRID^2 grid over the face. */
+static void spacing_table(const pg_planet *p, int face, int64_t x0, int64_t y0, int64_t w,
+                          double *su, double *sv) {
     const double del = 1e-3, texel = 2.0 / (double)p->n;
-    for (int b = 0; b < SPACING_GRID; b++)
-        for (int a = 0; a < SPACING_GRID; a++) {
+    /* only the cells the window [x0, x0 + w)^2 uses: a tile needs few of them */
+    const int64_t n = p->n;
+    for (int b = (int)(y0 * SPACING_GRID / n); b <= (int)((y0 + w - 1) * SPACING_GRID / n); b++)
+        for (int a = (int)(x0 * SPACING_GRID / n); a <= (int)((x0 + w - 1) * SPACING_GRID / n);
+             a++) {
             double u = (2.0 * a + 1) / SPACING_GRID - 1, v = (2.0 * b + 1) / SPACING_GRID - 1;
             double pts[4][3], dir[3];
             const double off[4][2] = {{del, 0}, {-del, 0}, {0, del}, {0, -del}};
@@ -100,7 +104,7 @@ pg_status pg_export_normal_map(const pg_export_heights *h, const pg_cube_grid *g
         return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the normal map of face %s",
                             pg_cube_face_name(face));
     double su[SPACING_GRID * SPACING_GRID], sv[SPACING_GRID * SPACING_GRID];
-    spacing_table(p, face, su, sv);
+    spacing_table(p, face, x0, y0, w, su, sv);
     /* the window and its ring inside the face, but for the ring's corners (never read) */
 #pragma omp parallel for schedule(static)
     for (int64_t y = y0 - 1; y <= y0 + w; y++)
