@@ -20,30 +20,33 @@
 #define SPACING_GRID 64
 
 typedef struct nm_ctx {
-    const pg_planet *p;
+    const pg_export_heights *h;
     const pg_cube_grid *g;
     const pg_export_mesh *mesh;
-    int64_t q; /* texels per mesh quad edge */
+    int64_t n, q; /* texels per face edge, per mesh quad edge */
+    double sea;
 } nm_ctx;
 
 static double clamped(const nm_ctx *c, int face, int64_t x, int64_t y) {
-    double h = c->p->height[face][y * c->p->n + x];
-    return h > c->p->sea_level ? h : c->p->sea_level;
+    double h = pg_export_height_at(c->h, face, x, y);
+    return isnan(h) || h > c->sea ? h : c->sea;
+}
+
+static double vertex_height(const nm_ctx *c, int face, int i, int j) {
+    int64_t r = pg_export_verts_find(&c->mesh->verts, face, i, j);
+    return r < 0 ? NAN : c->mesh->verts.vh[r];
 }
 
 /* The mesh's interpolated height at texel centre (x, y) of a face. */
 static double coarse(const nm_ctx *c, int face, int64_t x, int64_t y) {
-    const pg_export_mesh *mh = c->mesh;
-    int w = mh->m + 1;
+    int m = c->mesh->m;
     double fx = (x + 0.5) / (double)c->q, fy = (y + 0.5) / (double)c->q;
     int i = (int)fx, j = (int)fy;
-    if (i >= mh->m) i = mh->m - 1;
-    if (j >= mh->m) j = mh->m - 1;
+    if (i >= m) i = m - 1;
+    if (j >= m) j = m - 1;
     double tx = fx - i, ty = fy - j;
-    const uint32_t *cn = mh->canon + (size_t)face * mh->nv;
-    const double *vh = mh->vheight;
-    double h00 = vh[cn[j * w + i]], h10 = vh[cn[j * w + i + 1]];
-    double h01 = vh[cn[(j + 1) * w + i]], h11 = vh[cn[(j + 1) * w + i + 1]];
+    double h00 = vertex_height(c, face, i, j), h10 = vertex_height(c, face, i + 1, j);
+    double h01 = vertex_height(c, face, i, j + 1), h11 = vertex_height(c, face, i + 1, j + 1);
     return (1 - ty) * ((1 - tx) * h00 + tx * h10) + ty * ((1 - tx) * h01 + tx * h11);
 }
 
@@ -51,21 +54,28 @@ static double detail(const nm_ctx *c, int face, int64_t x, int64_t y) {
     return clamped(c, face, x, y) - coarse(c, face, x, y);
 }
 
-/* Detail height at (x, y), which may lie one texel outside the face. */
-static double detail_wrapped(const nm_ctx *c, int face, int64_t x, int64_t y, const float *d) {
-    int64_t n = c->p->n;
-    if (x >= 0 && y >= 0 && x < n && y < n) return d[y * n + x];
+/* Detail height at (x, y), which may lie one texel outside the window [x0, x0 + w)^2:
+ * inside the face from d (the window and its one-texel ring, stored as floats),
+ * across a face edge from the neighbouring face. */
+static double detail_wrapped(const nm_ctx *c, int face, int64_t x, int64_t y, const float *d,
+                             int64_t x0, int64_t y0, int64_t w) {
+    int64_t n = c->n;
+    if (x >= 0 && y >= 0 && x < n && y < n) return d[(y - y0 + 1) * (w + 2) + (x - x0 + 1)];
     int rot;
     int64_t id = pg_cube_wrap(c->g, face, x, y, &rot);
     int64_t nn = n * n, t = id % nn;
     return detail(c, (int)(id / nn), t % n, t / n);
 }
 
-/* Metres per texel along u and v at the centres of a SPACING_GRID^2 grid. */
-static void spacing_table(const pg_planet *p, int face, double *su, double *sv) {
+/* Metres per texel along u and v at the centres of a SPACING_GRID^2 grid over the face. */
+static void spacing_table(const pg_planet *p, int face, int64_t x0, int64_t y0, int64_t w,
+                          double *su, double *sv) {
     const double del = 1e-3, texel = 2.0 / (double)p->n;
-    for (int b = 0; b < SPACING_GRID; b++)
-        for (int a = 0; a < SPACING_GRID; a++) {
+    /* only the cells the window [x0, x0 + w)^2 uses: a tile needs few of them */
+    const int64_t n = p->n;
+    for (int b = (int)(y0 * SPACING_GRID / n); b <= (int)((y0 + w - 1) * SPACING_GRID / n); b++)
+        for (int a = (int)(x0 * SPACING_GRID / n); a <= (int)((x0 + w - 1) * SPACING_GRID / n);
+             a++) {
             double u = (2.0 * a + 1) / SPACING_GRID - 1, v = (2.0 * b + 1) / SPACING_GRID - 1;
             double pts[4][3], dir[3];
             const double off[4][2] = {{del, 0}, {-del, 0}, {0, del}, {0, -del}};
@@ -83,38 +93,49 @@ static void spacing_table(const pg_planet *p, int face, double *su, double *sv) 
         }
 }
 
-pg_status pg_export_normal_map(const pg_planet *p, const pg_cube_grid *g,
+pg_status pg_export_normal_map(const pg_export_heights *h, const pg_cube_grid *g,
                                const pg_export_mesh *mesh, double exaggeration, int face,
-                               float *rgb, pg_error *err) {
-    int64_t n = p->n;
-    nm_ctx c = {p, g, mesh, n / mesh->m};
-    float *d = malloc((size_t)n * n * sizeof(float));
+                               int64_t x0, int64_t y0, int64_t w, float *rgb, pg_error *err) {
+    const pg_planet *p = h->p;
+    int64_t n = p->n, dw = w + 2;
+    nm_ctx c = {h, g, mesh, n, n / mesh->m, p->sea_level};
+    float *d = malloc((size_t)dw * dw * sizeof(float));
     if (!d)
         return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the normal map of face %s",
                             pg_cube_face_name(face));
     double su[SPACING_GRID * SPACING_GRID], sv[SPACING_GRID * SPACING_GRID];
-    spacing_table(p, face, su, sv);
+    spacing_table(p, face, x0, y0, w, su, sv);
+    /* the window and its ring inside the face, but for the ring's corners (never read) */
 #pragma omp parallel for schedule(static)
-    for (int64_t y = 0; y < n; y++)
-        for (int64_t x = 0; x < n; x++)
-            d[y * n + x] = (float)detail(&c, face, x, y);
-#pragma omp parallel for schedule(static)
-    for (int64_t y = 0; y < n; y++)
-        for (int64_t x = 0; x < n; x++) {
+    for (int64_t y = y0 - 1; y <= y0 + w; y++)
+        for (int64_t x = x0 - 1; x <= x0 + w; x++) {
+            bool corner = (x < x0 || x >= x0 + w) && (y < y0 || y >= y0 + w);
+            if (x < 0 || y < 0 || x >= n || y >= n || corner) continue;
+            d[(y - y0 + 1) * dw + (x - x0 + 1)] = (float)detail(&c, face, x, y);
+        }
+    bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok)
+    for (int64_t y = y0; y < y0 + w; y++)
+        for (int64_t x = x0; x < x0 + w; x++) {
             int64_t cell = (y * SPACING_GRID / n) * SPACING_GRID + x * SPACING_GRID / n;
-            double gx =
-                (detail_wrapped(&c, face, x + 1, y, d) - detail_wrapped(&c, face, x - 1, y, d)) /
-                (2 * su[cell]);
-            double gy =
-                (detail_wrapped(&c, face, x, y + 1, d) - detail_wrapped(&c, face, x, y - 1, d)) /
-                (2 * sv[cell]);
+            double gx = (detail_wrapped(&c, face, x + 1, y, d, x0, y0, w) -
+                         detail_wrapped(&c, face, x - 1, y, d, x0, y0, w)) /
+                        (2 * su[cell]);
+            double gy = (detail_wrapped(&c, face, x, y + 1, d, x0, y0, w) -
+                         detail_wrapped(&c, face, x, y - 1, d, x0, y0, w)) /
+                        (2 * sv[cell]);
             double nx = -exaggeration * gx, ny = -exaggeration * gy;
             double l = sqrt(nx * nx + ny * ny + 1);
-            float *o = rgb + 3 * (y * n + x);
+            float *o = rgb + 3 * ((y - y0) * w + (x - x0));
             o[0] = (float)(0.5 + 0.5 * nx / l);
             o[1] = (float)(0.5 + 0.5 * ny / l);
             o[2] = (float)(0.5 + 0.5 / l);
+            ok = ok && isfinite(l);
         }
     free(d);
+    if (!ok)
+        return pg_error_set(err, PG_ERR_RUNTIME,
+                            "normal map of face %s: heights around the window are missing",
+                            pg_cube_face_name(face));
     return PG_OK;
 }

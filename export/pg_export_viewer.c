@@ -27,8 +27,9 @@ static pg_status write_asset(const pg_viewer_asset *a, pg_planet_path_fn path_fo
     return PG_OK;
 }
 
-pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
-                                 pg_error *err) {
+/* The page's files, then viewer.json naming one .glb (glb_url) or a tile set (urls). */
+static pg_status write_viewer(const char *glb_url, const char *const *urls, int n,
+                              pg_planet_path_fn path_for, void *user, pg_error *err) {
     if (!pg_export_viewer_available())
         return pg_error_set(err, PG_ERR_IO,
                             "this planetgen was built without three.js (npm was missing at build "
@@ -38,6 +39,19 @@ pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for
         if (st) return st;
     }
     pg_json *j = pg_json_object();
-    if (j) pg_json_set_string(j, "glb", glb_url);
+    if (j && glb_url) pg_json_set_string(j, "glb", glb_url);
+    pg_json *arr = j && urls ? pg_json_set_array(j, "tiles") : NULL;
+    for (int k = 0; arr && k < n; k++)
+        pg_json_push_string(arr, urls[k]);
     return pg_planet_write_json(j, "viewer.json", path_for, user, err);
+}
+
+pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
+                                 pg_error *err) {
+    return write_viewer(glb_url, NULL, 0, path_for, user, err);
+}
+
+pg_status pg_export_viewer_write_tiles(const char *const *urls, int n, pg_planet_path_fn path_for,
+                                       void *user, pg_error *err) {
+    return write_viewer(NULL, urls, n, path_for, user, err);
 }

@@ -5,9 +5,11 @@
 #   blender -b --python scripts/blender_import.py -- PLANET --render out.png
 #
 # PLANET is a planet.glb, or a planet directory: its planet.glb, else viewer/planet.glb,
-# else, for a tiled planet (index.json, generate --output-layout tiled), the globe that
-# `planetgen view DIR` assembles from the tiles into DIR/viewer/planet.glb (planetgen
-# from --planetgen or the PATH).
+# else, for a tiled planet (index.json, generate --output-layout tiled), the .glb of every
+# tile that index.json lists (planet_F_TX_TY.glb), imported and joined into one globe,
+# else (a tiled planet written with --no-glb) the globe that `planetgen view DIR`
+# assembles from the tiles into DIR/viewer/planet.glb (planetgen from --planetgen or the
+# PATH).
 #
 # What it does:
 #  1. imports the .glb with Blender's own glTF importer;
@@ -65,20 +67,31 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
-def find_glb(planet, planetgen):
-    """The .glb for a file or a planet directory (see the top of this file)."""
+def find_glbs(planet, planetgen):
+    """The .glb files for a file or a planet directory (see the top of this file)."""
     if not os.path.isdir(planet):
-        return planet
+        return [planet]
     for name in ("planet.glb", os.path.join("viewer", "planet.glb")):
         if os.path.isfile(os.path.join(planet, name)):
-            return os.path.join(planet, name)
-    if not os.path.isfile(os.path.join(planet, "index.json")):
+            return [os.path.join(planet, name)]
+    index = os.path.join(planet, "index.json")
+    if not os.path.isfile(index):
         sys.exit(f"{planet}: no planet.glb and not a tiled planet (no index.json)")
+    with open(index) as f:
+        tiles = json.load(f).get("tile_files", [])
+    glbs = [os.path.join(planet, t["glb"]) for t in tiles if "glb" in t]
+    if tiles and len(glbs) == len(tiles) and all(os.path.isfile(g) for g in glbs):
+        return glbs
     if shutil.which(planetgen) is None:
-        sys.exit(f"{planet}: a tiled planet; run `planetgen view {planet}` first, or give "
-                 "--planetgen PATH")
+        sys.exit(f"{planet}: a tiled planet without its .glb files; run `planetgen view "
+                 f"{planet}` first, or give --planetgen PATH")
     subprocess.run([planetgen, "view", planet, "-q"], check=True)
-    return os.path.join(planet, "viewer", "planet.glb")
+    return [os.path.join(planet, "viewer", "planet.glb")]
+
+
+def find_glb(planet, planetgen):
+    """The one .glb of a planet (the first tile's for a tile set)."""
+    return find_glbs(planet, planetgen)[0]
 
 
 def read_glb(path):
@@ -118,21 +131,43 @@ def load_height_image(gltf, binary, glb_dir, index, name, tmp):
     return image
 
 
-def import_globe(glb):
-    """Import the .glb; the planet object with its transform baked into kilometres."""
+def import_one(glb):
+    """Import one .glb; its planet object with the transform baked into kilometres."""
+    before = set(bpy.context.scene.objects)
     bpy.ops.import_scene.gltf(filepath=glb)
     meshes = [o for o in bpy.context.scene.objects
-              if o.type == "MESH" and any(m and "heightTexture" in m for m in o.data.materials)]
+              if o not in before and o.type == "MESH"
+              and any(m and "heightTexture" in m for m in o.data.materials)]
     if len(meshes) != 1:
         sys.exit(f"{glb}: not a planetgen globe (no material with a heightTexture)")
     obj = meshes[0]
-    mesh = obj.data
-    mesh.transform(mathutils.Matrix.Scale(KM, 4) @ obj.matrix_world)
+    obj.data.transform(mathutils.Matrix.Scale(KM, 4) @ obj.matrix_world)
     obj.matrix_world = mathutils.Matrix.Identity(4)
-    # One connected surface with smooth vertex normals: the six faces' seam vertices are
-    # bit-identical in the .glb (docs/export.md, "Watertight") and are merged here, and
-    # the importer's per-corner normals are dropped. Displacement moves a vertex along
-    # its normal, so a vertex with two normals, or two copies, would open a crack.
+    return obj
+
+
+def import_globe(glb, each=None):
+    """Import the .glb, or the tile set's .glb files (a list) joined into one object;
+    each(obj, glb), if given, runs on every file's object before the join (its
+    materials' heightTexture indices are that file's)."""
+    objs = []
+    for g in glb if isinstance(glb, list) else [glb]:
+        objs.append(import_one(g))
+        if each:
+            each(objs[-1], g)
+    obj = objs[0]
+    if len(objs) > 1:
+        bpy.ops.object.select_all(action="DESELECT")
+        for o in objs:
+            o.select_set(True)
+        bpy.context.view_layer.objects.active = obj
+        bpy.ops.object.join()
+    mesh = obj.data
+    # One connected surface with smooth vertex normals: the seam vertices of the faces
+    # (and of the tiles) are bit-identical in the .glb files (docs/export.md,
+    # "Watertight") and are merged here, and the importer's per-corner normals are
+    # dropped. Displacement moves a vertex along its normal, so a vertex with two
+    # normals, or two copies, would open a crack.
     bm = bmesh.new()
     bm.from_mesh(mesh)
     bmesh.ops.remove_doubles(bm, verts=bm.verts, dist=1e-3)  # 1 m: two float ulps at 6400 km
@@ -290,8 +325,9 @@ def setup_render(scene, resolution, samples, texels_per_quad):
 
 def build(args):
     """The whole scene; returns (land, figures) for scripts that drive this one."""
-    glb = find_glb(args.planet, args.planetgen)
-    gltf, binary = read_glb(glb)
+    glbs = find_glbs(args.planet, args.planetgen)
+    glb = glbs[0] if len(glbs) == 1 else glbs
+    gltf, binary = read_glb(glbs[0])
     extras = gltf.get("scenes", [{}])[gltf.get("scene", 0)].get("extras", {})
     a = float(extras["radius_m"]) * KM
     b = a * (1 - float(extras.get("flattening", 0)))
@@ -299,22 +335,28 @@ def build(args):
     exaggeration = e0 if args.exaggeration is None else args.exaggeration
     sea_level = float(extras.get("sea_level_m", 0))
     scene = bpy.context.scene
-    land = import_globe(glb)
-    land.name = "planet"
     wired = 0
+    tmp = tempfile.mkdtemp(prefix="planetgen-heights-")
+
+    def displace(obj, path):
+        """Each material's height image (an index into this file's images) wired in."""
+        nonlocal wired
+        gl, bn = read_glb(path)
+        for mat in obj.data.materials:
+            name = mat.name if "tile_x" in mat else str(mat.get("face", mat.name))
+            image = load_height_image(gl, bn, os.path.dirname(path), int(mat["heightTexture"]),
+                                      "height " + name, tmp)
+            wire_displacement(mat, image, float(mat["heightOffset"]), float(mat["heightScale"]),
+                              exaggeration)
+            wired += 1
+
+    try:
+        land = import_globe(glb, None if args.no_displacement else displace)
+    finally:
+        shutil.rmtree(tmp)
+    land.name = "planet"
     set_radius(land.data, a, b, 0.0)  # the relief comes from the height images now
     if not args.no_displacement:
-        tmp = tempfile.mkdtemp(prefix="planetgen-heights-")
-        try:
-            for mat in land.data.materials:
-                image = load_height_image(gltf, binary, os.path.dirname(glb),
-                                          int(mat["heightTexture"]),
-                                          "height " + str(mat.get("face", mat.name)), tmp)
-                wire_displacement(mat, image, float(mat["heightOffset"]),
-                                  float(mat["heightScale"]), exaggeration)
-                wired += 1
-        finally:
-            shutil.rmtree(tmp)
         mod = land.modifiers.new("planetgen dicing", "SUBSURF")
         mod.subdivision_type = "SIMPLE"  # the base mesh is already on the ellipsoid
         # Cycles dices each base quad itself; any level here would multiply the patches
@@ -326,7 +368,8 @@ def build(args):
     texels = int(extras.get("tiles", 1)) * int(extras.get("tile_size", 1))
     setup_render(scene, args.resolution, args.samples, texels / int(extras.get("mesh_res", texels)))
     setup_camera_and_sun(scene, a, b, args.camera)
-    print(f"planetgen: {glb}: radius {a:.0f} km, {wired} faces displaced at "
+    what = glbs[0] if len(glbs) == 1 else f"{len(glbs)} tile files"
+    print(f"planetgen: {what}: radius {a:.0f} km, {wired} faces displaced at "
           f"{exaggeration:g}x, sea at {sea_level:g} m")
     return land, {"radius_km": a, "polar_km": b, "exaggeration": exaggeration,
                        "sea_level_m": sea_level, "faces_displaced": wired}

@@ -36,6 +36,22 @@ static inline void fixture_planet_dir(const char *tag, int tiles, int tile_size,
     pg_exemplar_free(&ex);
 }
 
+/* The Earth reprojected onto an in-memory planet of 6 x tiles^2 x tile_size^2 (the
+ * exemplar at 1350 columns, faces up to 256). */
+static inline void fixture_earth(pg_planet *p, int tiles, int tile_size) {
+    pg_error err = {0};
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    o.grid_width = 1350;
+    pg_exemplar ex;
+    assert_int_equal(pg_exemplar_load(&o, &ex, &err), PG_OK);
+    assert_int_equal(
+        pg_planet_alloc(p, PG_CUBE_EQUIANGULAR, tiles, tile_size, pg_ellipsoid_wgs84(), &err),
+        PG_OK);
+    assert_int_equal(pg_planet_from_exemplar(p, &ex, 1, &err), PG_OK);
+    pg_exemplar_free(&ex);
+}
+
 /* `planetgen export DIR -o DIR/bad OPTS` must exit 2 with `needle` in its message
  * and write nothing. */
 static inline void fixture_export_refused(const char *dir, const char *opts, const char *needle) {

@@ -24,9 +24,9 @@ set(PG_LABEL_e2e
     test_bad_input test_cli test_cube_cli test_determinism test_export_cli test_generate_cli
     test_inspect test_install test_pits_cli test_pits_gdal test_pits_relief test_realism_e2e
     test_resource_limits test_synth_cli test_synth_quality test_export_blender test_export_f3d
-    test_export_geotiff test_export_gltf test_mpi_generate test_world test_view)
-set(PG_LABEL_client test_export_blender test_export_f3d test_export_gltf test_view)
-set(PG_LABEL_mpi test_mpi_generate test_mpi_pits)
+    test_export_geotiff test_export_gltf test_export_tiles test_mpi_generate test_world test_view)
+set(PG_LABEL_client test_export_blender test_export_f3d test_export_gltf test_export_tiles test_view)
+set(PG_LABEL_mpi test_export_tiles test_mpi_generate test_mpi_pits)
 set(PG_LABEL_slow test_realism_e2e test_inspect)
 
 # pg_test_labels(NAME): give test NAME its labels from the lists above.

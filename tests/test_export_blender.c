@@ -10,9 +10,11 @@
  * adaptive subdivision is on; the sea surface lies at sea level; and a Cycles close-up
  * of the Himalaya differs from the same scene without displacement where the mountains
  * are (the height pass says where), far more than over the lowlands. The script also
- * takes a tiled planet directory. */
+ * takes a tiled planet directory: without its .glb files (planetgen view assembles one)
+ * and with its .glb per tile, joined into one closed surface. */
 #include "export_fixture.h"
 
+#include "planetgen/pg_export.h"
 #include "planetgen/pg_planet_tiles.h"
 
 #include <math.h>
@@ -131,22 +133,37 @@ static void test_blender_script_displacement(void **s) {
         pg_image_free(&img[i]);
 }
 
+/* The Earth fixture (6 x tiles^2 x tile_size^2) saved as tiles in DIR/tiled (the layout
+ * of generate --output-layout tiled), with each tile's .glb when glb; DIR and the tiled
+ * directory go to dir and tiled. */
+static void tiled_fixture(const char *tag, int tiles, int tile_size, bool glb, char *dir,
+                          char *tiled) {
+    pg_planet p;
+    pg_error err = {0};
+    fixture_planet_dir(tag, tiles, tile_size, dir, 1024);
+    assert_int_equal(pg_planet_load(dir, &p, &err), PG_OK);
+    snprintf(tiled, 1100, "%s/tiled", dir);
+    assert_int_equal(mkdir(tiled, 0777), 0);
+    pg_planet_dir_paths paths = {.dir = tiled};
+    const int nt = 6 * p.tiles * p.tiles;
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    assert_int_equal(pg_planet_save_tiles(&p, 0, nt, pg_planet_dir_path, &paths, &err), PG_OK);
+    if (glb)
+        assert_int_equal(
+            pg_export_tiles_glb(&p, 0, nt, NULL, &o, pg_planet_dir_path, &paths, NULL, &err),
+            PG_OK);
+    assert_int_equal(pg_planet_save_index_glb(&p, glb, pg_planet_dir_path, &paths, &err), PG_OK);
+    pg_planet_free(&p);
+}
+
 /* A tiled planet directory (index.json, no planet.glb): the script has planetgen view
  * assemble viewer/planet.glb from the tiles and displaces all six faces. */
 static void test_blender_script_tiled(void **s) {
     (void)s;
     static char out[1 << 16];
     char dir[1024], tiled[1100], cmd[8192], path[1300];
-    fixture_planet_dir("export_blender_tiled", 1, 32, dir, sizeof dir);
-    pg_planet p;
-    pg_error err = {0};
-    assert_int_equal(pg_planet_load(dir, &p, &err), PG_OK);
-    snprintf(tiled, sizeof tiled, "%s/tiled", dir);
-    assert_int_equal(mkdir(tiled, 0777), 0);
-    pg_planet_dir_paths paths = {.dir = tiled};
-    assert_int_equal(pg_planet_save_tiles(&p, 0, 6, pg_planet_dir_path, &paths, &err), PG_OK);
-    assert_int_equal(pg_planet_save_index(&p, pg_planet_dir_path, &paths, &err), PG_OK);
-    pg_planet_free(&p);
+    tiled_fixture("export_blender_tiled", 1, 32, false, dir, tiled);
     snprintf(path, sizeof path, "%s/scene.blend", dir);
     snprintf(cmd, sizeof cmd,
              "blender -b --factory-startup --python '%s/scripts/blender_import.py' -- '%s' "
@@ -162,9 +179,38 @@ static void test_blender_script_tiled(void **s) {
     assert_true(pg_test_file_nonempty(path));
 }
 
+/* A tiled planet with its .glb per tile (as generate writes it): the script imports the
+ * 24 files and joins them into one closed surface - after welding the bit-identical
+ * border vertices, Euler's 6 M^2 + 2 vertices and 6 M^2 quads, no boundary edge (a
+ * crack would leave some) - and displaces every tile's material. */
+static void test_blender_script_tile_glbs(void **s) {
+    (void)s;
+    static char out[1 << 16];
+    char dir[1024], tiled[1100], cmd[8192], want[128];
+    tiled_fixture("export_blender_tile_glbs", 2, 32, true, dir, tiled);
+    const int m = pg_export_default_mesh_res(2, 32);
+    snprintf(cmd, sizeof cmd,
+             "blender -b --factory-startup --python '%s/scripts/blender_import.py' --python-expr "
+             "\"import bpy, bmesh; o = bpy.data.objects['planet']; bm = bmesh.new(); "
+             "bm.from_mesh(o.data); print('planetgen-check vertices %%d quads %%d boundary %%d "
+             "materials %%d' %% (len(bm.verts), len(bm.faces), sum(e.is_boundary for e in "
+             "bm.edges), len(o.data.materials)))\" -- '%s' 2>&1",
+             pg_test_source_dir(), tiled);
+    int rc = fixture_sh(cmd, out, sizeof out);
+    const char *line = strstr(out, "planetgen: ");
+    printf("%s\n", line ? line : out);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "24 tile files"));
+    assert_non_null(strstr(out, "24 faces displaced"));
+    snprintf(want, sizeof want, "planetgen-check vertices %d quads %d boundary 0 materials 24",
+             6 * m * m + 2, 6 * m * m);
+    assert_non_null(strstr(out, want));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_blender_import_and_render),
                                        cmocka_unit_test(test_blender_script_displacement),
-                                       cmocka_unit_test(test_blender_script_tiled)};
+                                       cmocka_unit_test(test_blender_script_tiled),
+                                       cmocka_unit_test(test_blender_script_tile_glbs)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,20 +26,6 @@ static int cmp_key(const void *a, const void *b) {
     return x->face - y->face;
 }
 
-static void earth(pg_planet *p, int tiles, int tile_size) {
-    pg_error err = {0};
-    pg_exemplar_opts o;
-    pg_exemplar_opts_default(&o);
-    o.grid_width = 1350;
-    pg_exemplar ex;
-    assert_int_equal(pg_exemplar_load(&o, &ex, &err), PG_OK);
-    assert_int_equal(
-        pg_planet_alloc(p, PG_CUBE_EQUIANGULAR, tiles, tile_size, pg_ellipsoid_wgs84(), &err),
-        PG_OK);
-    assert_int_equal(pg_planet_from_exemplar(p, &ex, 1, &err), PG_OK);
-    pg_exemplar_free(&ex);
-}
-
 /* Group the vertices of all faces by their cube lattice point (computed here from the
  * face frames, independently of the exporter) and measure coincident pairs. */
 static void check_watertight(const pg_export_mesh *mesh) {
@@ -102,7 +88,7 @@ static void check_frames(const pg_export_mesh *mesh) {
 static void test_mesh_watertight_and_displaced(void **s) {
     (void)s;
     pg_planet p;
-    earth(&p, 2, 64);
+    fixture_earth(&p, 2, 64);
     pg_error err = {0};
     pg_cube_grid g;
     assert_int_equal(pg_cube_grid_init(&g, p.projection, p.tiles, p.tile_size, &err), PG_OK);
@@ -163,7 +149,7 @@ static void test_options_checked(void **s) {
 static void test_exr_roundtrip(void **s) {
     (void)s;
     pg_planet p;
-    earth(&p, 2, 32);
+    fixture_earth(&p, 2, 32);
     pg_export_opts o;
     pg_export_opts_default(&o);
     o.glb = o.previews = false;

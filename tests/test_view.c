@@ -6,11 +6,14 @@
  * that the globe covers at least 20% of the screenshot, and that no background pixel
  * lies inside the globe's disc: a crack along a face seam would show the magenta
  * background through the globe (back faces are culled). A tiled planet (index.json)
- * gets its viewer/planet.glb assembled from the tiles and is shown the same way; the
- * tiles load back bit for bit. The server gives nothing outside DIR. Bad input (no
+ * with its .glb per tile is shown from those 24 files, loaded into one globe, with no
+ * crack along the tile and face seams at the cube corner; without them its
+ * viewer/planet.glb is assembled from the tiles and shown the same way; the tiles load
+ * back bit for bit. The server gives nothing outside DIR. Bad input (no
  * planet, a port in use or out of range) exits 2 with one line and writes nothing. */
 #include "export_fixture.h"
 
+#include "planetgen/pg_export.h"
 #include "planetgen/pg_planet_tiles.h"
 
 #include <arpa/inet.h>
@@ -135,8 +138,8 @@ static int chromium(const char *scratch, const char *what, const char *url, char
 }
 
 /* Load the page until it reports itself done (a slow load can outlast the budget):
- * it must be ready, with 6 faces and an empty error list. */
-static void expect_ready(const char *scratch, const char *url) {
+ * it must be ready, with `faces` primitives and an empty error list. */
+static void expect_ready(const char *scratch, const char *url, int faces) {
     static char dom[1 << 16];
     const char *body = NULL;
     for (int attempt = 0; attempt < 3; attempt++) {
@@ -152,7 +155,11 @@ static void expect_ready(const char *scratch, const char *url) {
         printf("page errors: %.400s\n", errors);
     assert_true(!strncmp(errors, "<pre id=\"pg-errors\"></pre>", 26)); /* no error at all */
     assert_non_null(strstr(body, "data-status=\"ready\""));
-    assert_non_null(strstr(body, "data-faces=\"6\""));
+    char want[32];
+    snprintf(want, sizeof want, "data-faces=\"%d\"", faces);
+    const char *got = strstr(body, "data-faces=");
+    printf("page %.40s, expected %s\n", got ? got : "without data-faces", want);
+    assert_non_null(strstr(body, want));
 }
 
 /* Strongly magenta: the background of the crack views (bg=ff00ff), blended or not. */
@@ -198,11 +205,12 @@ static disc_figures measure_disc(const char *png) {
 }
 
 /* One view: ready without errors, then a screenshot with a globe and no crack. */
-static void check_view(const char *scratch, int port, const char *view, const char *shot_name) {
+static void check_view(const char *scratch, int port, const char *view, const char *shot_name,
+                       int faces) {
     char url[512], shot[1300], what[1400];
     snprintf(url, sizeof url, "http://127.0.0.1:%d/viewer/index.html?view=%s&ui=0&bg=ff00ff", port,
              view);
-    expect_ready(scratch, url);
+    expect_ready(scratch, url, faces);
     snprintf(shot, sizeof shot, "%s/%s", scratch, shot_name);
     snprintf(what, sizeof what, "--screenshot='%s'", shot);
     disc_figures d = {0};
@@ -228,14 +236,14 @@ static void test_browser_views(void **state) {
     assert_int_equal(pg_test_run_cli(args, NULL, 0, NULL, 0), 0);
     serve(dir, srv);
     check_server_paths(srv->port);
-    check_view(dir, srv->port, "north", "north.png");
-    check_view(dir, srv->port, "south", "south.png");
-    check_view(dir, srv->port, "corner", "corner.png");
+    check_view(dir, srv->port, "north", "north.png", 6);
+    check_view(dir, srv->port, "south", "south.png", 6);
+    check_view(dir, srv->port, "corner", "corner.png", 6);
     /* the shaded relief at 4 times the exported exaggeration, from the corner */
     char url[512];
     snprintf(url, sizeof url, "http://127.0.0.1:%d/viewer/index.html?mode=relief&relief=40",
              srv->port);
-    expect_ready(dir, url);
+    expect_ready(dir, url, 6);
     stop(srv);
 }
 
@@ -268,11 +276,28 @@ static void test_tiled(void **state) {
         assert_memory_equal(q.albedo[f], p.albedo[f], (size_t)p.n * p.n * 3 * sizeof(float));
     }
     pg_planet_free(&q);
-    pg_planet_free(&p);
     serve(dir, srv);
     snprintf(path, sizeof path, "%s/viewer/planet.glb", dir);
     assert_true(pg_test_file_nonempty(path)); /* assembled from the tiles */
-    check_view(dir, srv->port, "corner", "tiled_corner.png");
+    check_view(dir, srv->port, "corner", "tiled_corner.png", 6);
+    stop(srv);
+    /* with the .glb per tile that generate writes: those are shown, nothing assembled */
+    char viewer[1200], cmd[1400], out[256];
+    snprintf(viewer, sizeof viewer, "%s/viewer", dir);
+    snprintf(cmd, sizeof cmd, "rm -r '%s'", viewer);
+    assert_int_equal(fixture_sh(cmd, out, sizeof out), 0);
+    pg_planet_dir_paths paths = {.dir = dir};
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    const int nt = 6 * p.tiles * p.tiles;
+    assert_int_equal(
+        pg_export_tiles_glb(&p, 0, nt, NULL, &o, pg_planet_dir_path, &paths, NULL, &err), PG_OK);
+    assert_int_equal(pg_planet_save_index_glb(&p, true, pg_planet_dir_path, &paths, &err), PG_OK);
+    pg_planet_free(&p);
+    serve(dir, srv);
+    assert_false(pg_test_file_nonempty(path));
+    check_view(dir, srv->port, "corner", "tiles_corner.png", nt);
+    check_view(dir, srv->port, "north", "tiles_north.png", nt);
     stop(srv);
 }
 

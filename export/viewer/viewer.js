@@ -13,6 +13,11 @@
 // identical: the globe stays closed at every exaggeration. Normals are recomputed from
 // the rescaled triangles and averaged over the faces that share a seam vertex, and the
 // normal map's strength follows k / E (it holds the detail the mesh lacks, at E).
+//
+// A tiled planet (docs/export.md, "Tiled planets") comes as one .glb per tile, each a
+// mesh of one primitive in the same frame; viewer.json lists them under "tiles" and the
+// page loads them all into one globe. Their border vertices are bit-identical too, so
+// the seam groups below join tiles exactly as they join faces.
 import * as THREE from 'three';
 import { GLTFLoader } from './three/examples/jsm/loaders/GLTFLoader.js';
 import { OrbitControls } from './three/examples/jsm/controls/OrbitControls.js';
@@ -146,11 +151,27 @@ function averageSeamNormals(faces, groups) {
   for (const f of faces) f.geometry.attributes.normal.needsUpdate = true;
 }
 
-async function planetUrl() {
-  if (params.get('glb')) return params.get('glb');
+// The .glb files to show: ?glb=URL, else viewer.json's "glb" (one globe) or "tiles".
+async function planetUrls() {
+  if (params.get('glb')) return [params.get('glb')];
   const res = await fetch('./viewer.json');
   if (!res.ok) throw new Error(`viewer.json: HTTP ${res.status}`);
-  return (await res.json()).glb;
+  const j = await res.json();
+  return j.tiles || [j.glb];
+}
+
+// Load the files a few at a time, in order.
+async function loadAll(urls) {
+  const loader = new GLTFLoader(), out = new Array(urls.length);
+  let next = 0;
+  const worker = async () => {
+    while (next < urls.length) {
+      const k = next++;
+      out[k] = await loader.loadAsync(urls[k]);
+    }
+  };
+  await Promise.all(Array.from({ length: Math.min(6, urls.length) }, worker));
+  return out;
 }
 
 async function main() {
@@ -171,9 +192,10 @@ async function main() {
   camera.add(sun);
   camera.add(sun.target);
 
-  const url = await planetUrl();
-  const gltf = await new GLTFLoader().loadAsync(url);
-  const extras = gltf.scene.userData || {};
+  const urls = await planetUrls();
+  const gltfs = await loadAll(urls);
+  const url = urls.length === 1 ? urls[0] : `${urls.length} tiles`;
+  const extras = gltfs[0].scene.userData || {};
   const a = Number(extras.radius_m), flat = Number(extras.flattening || 0);
   const e0 = Number(extras.exaggeration || 0), seaLevel = Number(extras.sea_level_m || 0);
   if (!(a > 0)) throw new Error(`${url}: no radius_m in the scene extras (not a planetgen .glb)`);
@@ -181,10 +203,10 @@ async function main() {
 
   const globe = new THREE.Group();
   globe.scale.setScalar(1 / a); // one unit = one equatorial radius
-  globe.add(gltf.scene);
+  for (const g of gltfs) globe.add(g.scene);
   scene.add(globe);
   const faces = [];
-  gltf.scene.traverse((o) => { if (o.isMesh) faces.push(new Face(o, a, b)); });
+  for (const g of gltfs) g.scene.traverse((o) => { if (o.isMesh) faces.push(new Face(o, a, b)); });
   if (faces.length === 0) throw new Error(`${url}: no mesh`);
   const groups = seamGroups(faces);
   for (const f of faces) f.colour(e0, seaLevel);
@@ -245,7 +267,7 @@ async function main() {
   setMode(params.get('mode') === 'relief' ? 'relief' : 'albedo');
   setExaggeration(Number(slider.value));
   $('pg-info').textContent =
-    `${url}\nradius ${(a / 1000).toFixed(0)} km, ${faces.length} faces, ` +
+    `${url}\nradius ${(a / 1000).toFixed(0)} km, ${faces.length} ${urls.length > 1 ? 'tiles' : 'faces'}, ` +
     `${extras.tiles}×${extras.tiles} tiles of ${extras.tile_size}² texels per face\n` +
     `seed ${extras.seed}, exported at ${e0}× relief`;
   tuneSpeed();

@@ -125,6 +125,23 @@ typedef struct pg_export_result {
 pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet_path_fn path_for,
                           void *user, pg_export_result *res, pg_error *err);
 
+/* ---- a tiled planet's glTF files (docs/export.md, "Tiled planets") ----
+ * One .glb per tile, planet_F_TX_TY.glb (pg_planet_tile_glb_name): one mesh with one
+ * primitive, the tile's part of the globe's mesh (--mesh-res M gives M/T quads per tile
+ * edge; the tiles together are exactly the globe's vertices), its albedo, normal map and
+ * 16-bit heights as in planet.glb, with the tile's own heightOffset and heightScale. A
+ * tile's file depends only on the planet's texels around it: seam vertices are
+ * bit-identical in the two files that hold them, whichever process wrote each. */
+
+/* Write the .glb of tiles [first, last) of p, which holds those tiles' texels. The
+ * texels around them that p does not hold (its other tiles, in a distributed run) are
+ * read from dir's committed height_F_TX_TY.exr files, a strip at a time; dir may be
+ * NULL when p holds every tile. Memory: one tile's images and mesh, its ring of
+ * (M/N + 2) texels, and one neighbour tile's heights while its strip is cut. */
+pg_status pg_export_tiles_glb(const pg_planet *p, int first, int last, const char *dir,
+                              const pg_export_opts *o, pg_planet_path_fn path_for, void *user,
+                              pg_export_result *res, pg_error *err);
+
 /* ---- the browser viewer (docs/export.md, "The browser viewer") ----
  * A page that shows a planet's .glb as a globe with three.js: index.html, viewer.js,
  * three.js under three/ (with its LICENSE), and viewer.json {"glb": URL} naming the
@@ -142,6 +159,11 @@ bool pg_export_viewer_available(void);
  * this build lacks three.js (pg_export_viewer_available). */
 pg_status pg_export_viewer_write(const char *glb_url, pg_planet_path_fn path_for, void *user,
                                  pg_error *err);
+
+/* The same for a tiled planet's .glb set (pg_export_tiles_glb): viewer.json lists the n
+ * URLs under "tiles", and the page loads them all into one globe. */
+pg_status pg_export_viewer_write_tiles(const char *const *urls, int n, pg_planet_path_fn path_for,
+                                       void *user, pg_error *err);
 
 #ifdef __cplusplus
 }

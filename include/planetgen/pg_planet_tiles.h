@@ -24,6 +24,9 @@ extern "C" {
 /* File names of tile t (face-major: t = f T^2 + ty T + tx). */
 void pg_planet_tile_names(const pg_planet *p, int t, char albedo[64], char height[64]);
 
+/* Name of tile t's glTF file, "planet_F_TX_TY.glb" (written by pg_export_tiles_glb). */
+void pg_planet_tile_glb_name(const pg_planet *p, int t, char glb[64]);
+
 /* Write tiles [first, last) of p (only those texels are read). */
 pg_status pg_planet_save_tiles(const pg_planet *p, int first, int last, pg_planet_path_fn path_for,
                                void *user, pg_error *err);
@@ -31,6 +34,9 @@ pg_status pg_planet_save_tiles(const pg_planet *p, int first, int last, pg_plane
 /* Write index.json for all 6 T^2 tiles. */
 pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                                pg_error *err);
+/* The same, listing each tile's .glb too when glb (pg_planet_tile_glb_name). */
+pg_status pg_planet_save_index_glb(const pg_planet *p, bool glb, pg_planet_path_fn path_for,
+                                   void *user, pg_error *err);
 
 /* Is dir a tiled planet directory (index.json and no planet.json)? */
 bool pg_planet_dir_is_tiled(const char *dir);

@@ -511,13 +511,13 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--preview-width", NULL, PG_OPT_INT, &a.preview_width, 16, 16384, NULL, "W",
          "width of the equirectangular previews (default 4 N, at most 2048)"},
         {"--no-glb", NULL, PG_OPT_FLAG, &a.no_glb, 0, 0, NULL, NULL,
-         "do not write the glTF globe planet.glb"},
+         "do not write the glTF globe planet.glb (tiled: the .glb per tile)"},
         {"--geotiff", NULL, PG_OPT_FLAG, &a.geotiff, 0, 0, NULL, NULL,
          "also write the planet as georeferenced GeoTIFFs: height.tif, albedo.tif (tiled: "
          "per tile, with height.vrt and albedo.vrt; docs/export.md)"},
         {"--output-layout", NULL, PG_OPT_CHOICE, &a.output_layout, 0, 0, "planet|tiled", "L",
-         "planet: face images, height.exr, previews, planet.glb; tiled: a PNG and an EXR per "
-         "tile plus index.json (default planet; tiled under mpirun, docs/mpi.md)"},
+         "planet: face images, height.exr, previews, planet.glb; tiled: a PNG, an EXR and a "
+         ".glb per tile plus index.json (default planet; tiled under mpirun, docs/mpi.md)"},
         PG_CLI_EXEMPLAR_OPTS(a.in),
         {"--face-size", NULL, PG_OPT_INT, &a.face_size, 512, 4096, NULL, "E",
          "exemplar cube face size (default: the planet's face size N, within 512..2048, so "

@@ -142,10 +142,27 @@ static pg_status write_geotiff_tiles(pg_cli *cli, const gen_args *a, gen_mpi *g,
     return st;
 }
 
+/* The glTF file of each of this process's tiles (docs/export.md, "Tiled planets"), once
+ * every tile's files are in place: the texels around a tile that another rank holds are
+ * read from its committed height EXR. */
+static pg_status write_tile_glbs(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
+                                 pg_error *err) {
+    const int n = 6 * planet->tiles * planet->tiles;
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    path_ctx pc = {cli, a->outdir};
+    pg_cli_stage_begin(cli, "write tile glTF");
+    pg_status st = pg_export_tiles_glb(planet, pg_mpi_tile_first(n, g->size, g->rank),
+                                       pg_mpi_tile_first(n, g->size, g->rank + 1),
+                                       g->mpi ? a->outdir : NULL, &o, gen_path_for, &pc, NULL, err);
+    pg_cli_stage_end(cli);
+    return st;
+}
+
 /* The tiled layout: this process's tiles (all of them in one process) and, from rank 0,
  * the macro world's files (layout world), then, once every rank has renamed its files
- * into place, the GeoTIFFs (--geotiff) and index.json from rank 0 - the mark that the
- * directory is complete. */
+ * into place, each rank's tile .glb files (unless --no-glb), the GeoTIFFs (--geotiff) and
+ * index.json from rank 0 - the mark that the directory is complete. */
 int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
                     const gen_world *world) {
     const int n = 6 * planet->tiles * planet->tiles;
@@ -163,9 +180,17 @@ int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *plane
         if (pg_cli_commit(cli, &err)) return gen_fail_all(cli, g, &err);
         pg_mpi_barrier(g->mpi); /* every tile is in place */
     }
+    if (!a->no_glb) {
+        if (write_tile_glbs(cli, a, g, planet, &err)) return gen_fail_all(cli, g, &err);
+        if (g->mpi) {
+            pg_mpi_barrier(g->mpi); /* every rank has written its tiles' .glb */
+            if (pg_cli_commit(cli, &err)) return gen_fail_all(cli, g, &err);
+            pg_mpi_barrier(g->mpi);
+        }
+    }
     if (g->rank == 0 && a->geotiff && write_geotiff_tiles(cli, a, g, planet, &err))
         return gen_fail_all(cli, g, &err);
-    if (g->rank == 0 && pg_planet_save_index(planet, gen_path_for, &pc, &err))
+    if (g->rank == 0 && pg_planet_save_index_glb(planet, !a->no_glb, gen_path_for, &pc, &err))
         return gen_fail_all(cli, g, &err);
     return 0;
 }

@@ -4,7 +4,9 @@
  *
  * DIR is a planet directory with a planet.glb (written by generate or export), shown
  * in place as ../planet.glb, or a tiled one (generate --output-layout tiled: index.json
- * and per-tile files), whose tiles are assembled and exported as viewer/planet.glb.
+ * and per-tile files). A tiled planet's own .glb per tile (planet_F_TX_TY.glb, which
+ * generate writes) are shown in place, all loaded into one globe; a tiled directory
+ * without them (--no-glb) has its tiles assembled and exported as viewer/planet.glb.
  * Everything the user can get wrong - DIR, the port - is checked before anything is
  * written: the port is bound first, so a port in use leaves no viewer behind. The
  * viewer's files are staged like every output and renamed into place together; the
@@ -111,6 +113,40 @@ static int check_tiled(pg_cli *cli, const char *dir, double max_memory_gb) {
     return pg_cli_check_memory(cli, dir, 300e6 + 6 * n * n * 48 + verts * 160, max_memory_gb);
 }
 
+/* The URLs, relative to DIR/viewer, of a tiled planet's .glb per tile when every tile
+ * has one (in tile order), else NULL. */
+static char **tile_glb_urls(const char *dir, int *n) {
+    pg_error err = {0};
+    int T, S;
+    *n = 0;
+    if (pg_planet_tiles_check(dir, &T, &S, &err)) return NULL;
+    const pg_planet geo = {.tiles = T, .tile_size = S};
+    const int nt = 6 * T * T;
+    char **urls = calloc((size_t)nt, sizeof *urls);
+    for (int t = 0; urls && t < nt; t++) {
+        char name[64], url[96];
+        pg_planet_tile_glb_name(&geo, t, name);
+        if (!exists(dir, name)) break;
+        char *u = url + snprintf(url, sizeof url, "../");
+        for (const char *c = name; *c; c++) /* "+" spelled out: a URL path keeps it literal */
+            u += *c == '+' ? snprintf(u, 4, "%%2B") : snprintf(u, 2, "%c", *c);
+        if (!(urls[t] = strdup(url))) break;
+        *n = t + 1;
+    }
+    if (*n == nt) return urls;
+    for (int t = 0; urls && t < *n; t++)
+        free(urls[t]);
+    free(urls);
+    *n = 0;
+    return NULL;
+}
+
+static void free_urls(char **urls, int n) {
+    for (int t = 0; t < n; t++)
+        free(urls[t]);
+    free(urls);
+}
+
 /* Serve until SIGINT or SIGTERM, then exit 0. The address is printed even with --quiet:
  * it is what the user waits for. The CLI's watcher is stopped first: its message says
  * the command wrote nothing, which is not true once the viewer is in place. */
@@ -144,19 +180,27 @@ static int run_view(pg_cli *cli, const char *dir, long port, double max_memory_g
         pg_export_viewer_write(NULL, NULL, NULL, &err); /* only to fill err with the reason */
         return pg_cli_fail(cli, &err);
     }
-    int rc = tiled ? check_tiled(cli, dir, max_memory_gb) : 0;
+    int nurls = 0;
+    char **urls = tiled ? tile_glb_urls(dir, &nurls) : NULL;
+    int rc = tiled && !urls ? check_tiled(cli, dir, max_memory_gb) : 0;
     if (rc) return rc;
     pg_serve *srv = NULL;
     int bound = 0;
-    if (port >= 0 && pg_serve_start(dir, port, &srv, &bound, &err)) return pg_cli_fail(cli, &err);
+    if (port >= 0 && pg_serve_start(dir, port, &srv, &bound, &err)) {
+        free_urls(urls, nurls);
+        return pg_cli_fail(cli, &err);
+    }
     view_ctx c = {.cli = cli};
     snprintf(c.viewer, sizeof c.viewer, "%s/%s", dir, PG_EXPORT_VIEWER_DIR);
     pg_status s = pg_cli_prepare_outdir(cli, c.viewer, &err);
     bool made_viewer = !s && cli->created_dir != NULL;
-    if (!s && tiled) s = export_tiled(cli, dir, &c, &err);
-    if (!s)
+    if (!s && tiled && !urls) s = export_tiled(cli, dir, &c, &err);
+    if (!s && urls)
+        s = pg_export_viewer_write_tiles((const char *const *)urls, nurls, viewer_path, &c, &err);
+    else if (!s)
         s = pg_export_viewer_write(tiled ? PG_EXPORT_GLB_NAME : "../" PG_EXPORT_GLB_NAME,
                                    viewer_path, &c, &err);
+    free_urls(urls, nurls);
     if (s) { /* the staged files, then the directories they were in */
         pg_cli_abort(cli);
         remove_subdirs(&c, true);
@@ -170,6 +214,7 @@ static int run_view(pg_cli *cli, const char *dir, long port, double max_memory_g
         pg_json *res = pg_json_set_object(r, "results");
         pg_json_set_string(res, "viewer", c.viewer);
         pg_json_set_bool(res, "tiled", tiled);
+        pg_json_set_number(res, "tile_glb_files", nurls);
         if (srv) pg_json_set_number(res, "port", bound);
     }
     rc = pg_cli_finish(cli);
@@ -202,7 +247,8 @@ int pg_cmd_view(pg_cli *cli, int argc, char **argv) {
         cli, opts, argc, argv, pos, 1, &npos, "DIR [--serve PORT]",
         "Write DIR/viewer/, a page that shows the planet in DIR as an interactive globe\n"
         "(three.js, no network), and with --serve, serve DIR on 127.0.0.1 until Ctrl-C.\n"
-        "DIR holds planet.glb (generate, export) or a tiled planet (index.json), which is\n"
+        "DIR holds planet.glb (generate, export) or a tiled planet (index.json): its .glb\n"
+        "per tile are loaded into one globe, or without them (--no-glb) the tiles are\n"
         "exported to DIR/viewer/planet.glb.");
     if (rc >= 0) return rc;
     if (npos != 1) return pg_cli_usage_error(cli, "expected one planet directory (see --help)");

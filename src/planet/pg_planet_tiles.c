@@ -20,6 +20,11 @@ void pg_planet_tile_names(const pg_planet *p, int t, char albedo[64], char heigh
     snprintf(height, 64, "height_%s_%d_%d.exr", pg_cube_face_name(f), tx, ty);
 }
 
+void pg_planet_tile_glb_name(const pg_planet *p, int t, char glb[64]) {
+    const int T = p->tiles, f = t / (T * T), tx = t % T, ty = t / T % T;
+    snprintf(glb, 64, "planet_%s_%d_%d.glb", pg_cube_face_name(f), tx, ty);
+}
+
 /* Tile t of `face` (ch channels per texel) into img, row 0 = the tile's +v edge. */
 static void cut_tile(const pg_planet *p, const float *face, int ch, int t, pg_image *img) {
     const int T = p->tiles, S = p->tile_size, tx = t % T, ty = t / T % T;
@@ -58,6 +63,11 @@ pg_status pg_planet_save_tiles(const pg_planet *p, int first, int last, pg_plane
 
 pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                                pg_error *err) {
+    return pg_planet_save_index_glb(p, false, path_for, user, err);
+}
+
+pg_status pg_planet_save_index_glb(const pg_planet *p, bool glb, pg_planet_path_fn path_for,
+                                   void *user, pg_error *err) {
     pg_json *j = pg_planet_meta_json(p);
     pg_json *arr = j ? pg_json_set_array(j, "tile_files") : NULL;
     if (j) {
@@ -76,6 +86,11 @@ pg_status pg_planet_save_index(const pg_planet *p, pg_planet_path_fn path_for, v
         pg_json_set_number(o, "y0", (double)(t / T % T) * p->tile_size);
         pg_json_set_string(o, "albedo", an);
         pg_json_set_string(o, "height", hn);
+        if (glb) {
+            char gn[64];
+            pg_planet_tile_glb_name(p, t, gn);
+            pg_json_set_string(o, "glb", gn);
+        }
     }
     return pg_planet_write_json(j, PG_PLANET_INDEX_NAME, path_for, user, err);
 }
