@@ -2,7 +2,8 @@
  * tiled output of 1, 2 and 4 ranks is byte for byte the single-process tiled output
  * (default pits, --pits off, other final pit methods, --geotiff, a magnified planet); a rank that
  * dies mid-run makes the job exit non-zero with its line and leaves no output; more
- * ranks than tiles and the single-file layout under mpirun exit 2 with one line.
+ * ranks than tiles and the single-file layout under mpirun exit 2 with one line; a memory
+ * limit that one process exceeds is met by 4 ranks, each within its estimate.
  *
  * mpirun runs as root here, so the test sets OpenMPI's allow-run-as-root variables;
  * --oversubscribe lets 4 ranks share 2 cores. Each rank runs one OpenMP thread so that
@@ -231,6 +232,106 @@ static void test_bad_input(void **state) {
     assert_int_equal(pg_test_count_files(dir), 0);
 }
 
+/* The first number after `key` in s (a JSON report or a message); -1 when absent. */
+static double number_after(const char *s, const char *key) {
+    const char *p = strstr(s, key);
+    if (!p) return -1;
+    p += strlen(key);
+    while (*p && !(*p >= '0' && *p <= '9'))
+        p++;
+    return *p ? strtod(p, NULL) : -1;
+}
+
+/* The numbers of the JSON array after "key": (at most max). */
+static int json_array(const char *json, const char *key, double *v, int max) {
+    char k[128];
+    snprintf(k, sizeof k, "\"%s\":", key);
+    const char *p = strstr(json, k);
+    if (!p || !(p = strchr(p, '['))) return 0;
+    int n = 0;
+    for (p++; n < max && *p && *p != ']';) {
+        char *end;
+        v[n] = strtod(p, &end);
+        if (end == p) break;
+        n++;
+        for (p = end; *p == ',' || *p == ' ' || *p == '\n';)
+            p++;
+    }
+    return n;
+}
+
+/* Beyond one process's memory: a limit (--max-memory) below the single-process estimate
+ * refuses one process (exit 2, one line with the estimate, no output); the same planet
+ * under the same limit per rank succeeds with 4 ranks, whose estimates are each below it
+ * and whose measured peak private memory is below its estimate (docs/mpi.md, "Memory per
+ * rank"). With a limit below one rank's share, mpirun refuses too, in one line from rank 0
+ * naming the rank and its tiles. */
+static void test_memory_per_rank(void **state) {
+    (void)state;
+    char dir[512], args[2048], o[700], json[700];
+    pg_test_scratch_dir("mpi-memory", dir, sizeof dir);
+    const char *planet = "--tiles 2 --tile-size 64 --seed 5 --layout free";
+    snprintf(o, sizeof o, "%s/o1", dir);
+    /* the single-process estimate, from the refusal line at a tiny limit */
+    snprintf(args, sizeof args,
+             "generate -q --output-layout tiled --cache-dir %s/synth-cache %s --max-memory 0.001 "
+             "-o %s",
+             getenv("PG_BUILD_DIR"), planet, o);
+    int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    double single = number_after(err, "needs about");
+    if (rc != 2 || !(single > 0)) fail_msg("tiny limit: exit %d, stderr '%s'", rc, err);
+    const double limit = 0.6 * single; /* GB, below the single-process estimate */
+    snprintf(args, sizeof args,
+             "generate -q --output-layout tiled --cache-dir %s/synth-cache %s --max-memory %.4f "
+             "-o %s",
+             getenv("PG_BUILD_DIR"), planet, limit, o);
+    rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 2 || !strstr(err, "--max-memory") || number_after(err, "needs about") != single)
+        fail_msg("one process under %.3f GB: exit %d, stderr '%s'", limit, rc, err);
+    assert_int_equal(planetgen_lines(err), 1);
+    assert_int_equal(pg_test_count_files(dir), 0);
+    /* 4 ranks, the same limit per rank */
+    snprintf(o, sizeof o, "%s/o4", dir);
+    snprintf(json, sizeof json, "%s/r4.json", dir);
+    snprintf(args, sizeof args,
+             "generate -q --cache-dir %s/synth-cache %s --max-memory %.4f -o %s --json %s",
+             getenv("PG_BUILD_DIR"), planet, limit, o, json);
+    rc = run_mpi(4, NULL, args);
+    if (rc != 0) fail_msg("4 ranks under %.3f GB each: exit %d: %s", limit, rc, err);
+    char idx[800];
+    snprintf(idx, sizeof idx, "%s/index.json", o);
+    assert_true(pg_test_file_nonempty(idx));
+    assert_int_equal(pg_test_count_files(o), 2 * 24 + 1);
+    char r[65536];
+    FILE *f = fopen(json, "r");
+    assert_non_null(f);
+    r[fread(r, 1, sizeof r - 1, f)] = 0;
+    fclose(f);
+    double est[4], priv[4], shared[4];
+    assert_int_equal(json_array(r, "memory_estimate_bytes_per_rank", est, 4), 4);
+    assert_int_equal(json_array(r, "peak_private_bytes_per_rank", priv, 4), 4);
+    assert_int_equal(json_array(r, "peak_shared_bytes_per_rank", shared, 4), 4);
+    for (int q = 0; q < 4; q++) {
+        if (!(est[q] <= limit * 1e9 && priv[q] > 0 && priv[q] <= est[q]))
+            fail_msg("rank %d: estimate %.0f MB, peak private %.0f MB, limit %.0f MB", q,
+                     est[q] / 1e6, priv[q] / 1e6, limit * 1e3);
+        /* the exemplar's cache file is mapped by every rank: shared, not private */
+        if (!(shared[q] > 0.5 * priv[q]))
+            fail_msg("rank %d: shared %.0f MB against private %.0f MB: is the exemplar shared?", q,
+                     shared[q] / 1e6, priv[q] / 1e6);
+    }
+    /* below one rank's share: refused by rank 0 in one line naming the rank */
+    const double tiny = 0.5 * est[0] / 1e9;
+    snprintf(o, sizeof o, "%s/o4b", dir);
+    snprintf(args, sizeof args, "generate -q --cache-dir %s/synth-cache %s --max-memory %.4f -o %s",
+             getenv("PG_BUILD_DIR"), planet, tiny, o);
+    rc = run_mpi(4, NULL, args);
+    if (rc != 2 || !strstr(err, "mpirun -np 4, rank ") || !strstr(err, "--max-memory"))
+        fail_msg("4 ranks under %.3f GB each: exit %d, stderr '%s'", tiny, rc, err);
+    assert_int_equal(planetgen_lines(err), 1);
+    assert_int_equal(pg_test_count_files(o), 0);
+}
+
 /* Ownership: balanced by count (blocks differ by at most one tile), contiguous in the
  * face-major order, and owner() inverts first(). */
 static void test_ownership(void **state) {
@@ -262,6 +363,7 @@ int main(void) {
         cmocka_unit_test(test_identical_geotiff),
         cmocka_unit_test(test_identical_magnified),
         cmocka_unit_test(test_rank_failure),
+        cmocka_unit_test(test_memory_per_rank),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -55,6 +55,11 @@ void pg_mpi_abort(pg_mpi *m, int code);
 
 int pg_mpi_rank(const pg_mpi *m);
 int pg_mpi_size(const pg_mpi *m);
+/* The ranks on this rank's machine (MPI_Comm_split_type MPI_COMM_TYPE_SHARED): they share
+ * its memory, and map one copy of the exemplar's cache file between them. */
+int pg_mpi_node_size(const pg_mpi *m);
+/* This rank's number among them (0 .. pg_mpi_node_size - 1). */
+int pg_mpi_node_rank(const pg_mpi *m);
 void pg_mpi_barrier(pg_mpi *m);
 /* Allreduce: the largest v over the ranks. */
 int pg_mpi_max_int(pg_mpi *m, int v);

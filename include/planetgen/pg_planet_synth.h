@@ -128,6 +128,10 @@ typedef struct pg_planet_synth_dist {
                        const pg_pits_area *area, pg_pits_stats *out, pg_error *err);
     /* Optional: the sum of v over the processes (the land/ocean agreement's count). */
     double (*sum)(void *user, double v);
+    /* Other processes on this machine map the same exemplar cache file: its levels are
+     * read in place, never copied into private memory, so the machine holds one copy
+     * (docs/mpi.md, "Memory per rank"). */
+    bool shared_exemplar;
 } pg_planet_synth_dist;
 
 typedef struct pg_planet_synth_params {

@@ -134,16 +134,56 @@ static double gen_exemplar_bytes(const gen_args *a) {
     return GEN_SOURCE_BYTES + GEN_BYTES_PER_EXEMPLAR_TEXEL * 6.0 * e * e;
 }
 
+/* Memory per rank of a distributed run (docs/mpi.md, "Memory per rank"): the constants
+ * of the estimate, measured with `planetgen generate --json` (peak_private_dirty_bytes,
+ * one process, and peak_private_bytes_per_rank under mpirun; layout free, default pits,
+ * tiled, exemplar face 512 from a warm cache). Re-measure them here when the memory of
+ * the synthesis or the pits changes. */
+/* libraries, MPI and buffers of a rank: 46 MB private after loading the exemplar, in
+ * every rank of 2 and 4 */
+#define GEN_RANK_BASE_BYTES 50e6
+/* per delivered texel: 19.1 B (N 512 -> 1024) and 20.1 B (N 1024 -> 2048) of peak
+ * private memory per added texel in one process; rounded up by a fifth */
+#define GEN_RANK_BYTES_PER_TEXEL 24.0
+/* per synthesized texel of the pyramid (4/3 of the finest synthesized level): S and V
+ * with the parent level, orientation and Gain-pit (pg_planet_synth_bytes's synthesis
+ * phase, 15.5 B; counted, not measured: on these planets the delivery is the peak) */
+#define GEN_RANK_BYTES_PER_SYNTH_TEXEL 16.0
+/* the ring a rank reads around its tiles: 2 texels wide (the delivery's B-spline) */
+#define GEN_RANK_RING_WIDTH 2
+
+/* One rank's peak: its tiles' share of the delivered planet and of the synthesized
+ * pyramid, the ring around them, its base, and the exemplar counted once per machine
+ * (its cold preparation, the larger figure, shared by the ranks there that map its cache
+ * file; --no-cache: every rank holds its own). */
+static double gen_rank_bytes(const gen_args *a, const pg_planet_synth_params *p, const gen_mpi *g) {
+    const int nt = 6 * p->tiles * p->tiles;
+    const double owned =
+        pg_mpi_tile_first(nt, g->size, g->rank + 1) - pg_mpi_tile_first(nt, g->size, g->rank);
+    const double S = p->tile_size, face = gen_face_size(a);
+    const double n = (double)p->tiles * S, nsyn = n > face ? face : n; /* synthesized edge */
+    const double synth = 4.0 / 3.0 * owned / nt * 6.0 * nsyn * nsyn;
+    const double ring = owned * 4.0 * (S + 2 * GEN_RANK_RING_WIDTH) * GEN_RANK_RING_WIDTH;
+    const double sharers = a->no_cache ? 1 : g->node_size;
+    return GEN_RANK_BASE_BYTES + GEN_RANK_BYTES_PER_TEXEL * (owned * S * S + ring) +
+           GEN_RANK_BYTES_PER_SYNTH_TEXEL * synth + gen_exemplar_bytes(a) / sharers;
+}
+
 /* with_map: the single-file layout keeps the coordinate map, 4 bytes per texel held
- * from the end of the synthesis to the end of the run. */
-static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p,
-                        bool with_map, double *need_out) {
-    double n = (double)p->tiles * p->tile_size;
-    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a) +
-                  (with_map ? GEN_MAP_BYTES_PER_TEXEL * 6.0 * n * n : 0);
-    *need_out = need;
+ * from the end of the synthesis to the end of the run. A distributed run checks each
+ * rank's share (gen_rank_bytes) against its limit (gen_check_memory_ranks). */
+static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_params *p, gen_mpi *g,
+                        double *need_out) {
     char what[96];
     snprintf(what, sizeof what, "--tiles %ld --tile-size %ld", a->tiles, a->tile_size);
+    if (g->mpi) {
+        *need_out = gen_rank_bytes(a, p, g);
+        return gen_check_memory_ranks(cli, g, what, *need_out, a->max_memory_gb);
+    }
+    double n = (double)p->tiles * p->tile_size;
+    double need = pg_planet_synth_bytes(p->tiles, p->tile_size, p) + gen_exemplar_bytes(a) +
+                  (!g->tiled ? GEN_MAP_BYTES_PER_TEXEL * 6.0 * n * n : 0);
+    *need_out = need;
     return pg_cli_check_memory(cli, what, need, a->max_memory_gb);
 }
 
@@ -362,16 +402,19 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     /* distributed: depression counts only where the final pass needs the whole level */
     if (g->size > 1 && !(p.pits && p.final_pits)) p.pit_stats = false;
     double need;
-    int rc = pg_mpi_max_int(g->mpi, check_memory(cli, a, &p, !g->tiled, &need));
+    int rc = check_memory(cli, a, &p, g, &need);
     if (!rc) rc = gen_rank0_first_outdir(cli, a, g);
     if (rc) return rc;
     pg_synth_exemplar *ex = NULL;
     pg_synth_prep_info pi;
     char src_name[1100];
     pg_cli_stage_begin(cli, "prepare exemplar");
+    /* the ranks map the cached exemplar one after the other (pg_cli_memory_pause) */
+    if (g->mpi) pg_cli_memory_pause(cli, true);
     if ((rc = gen_all_ranks_exemplar(cli, a, g, hushed, &ex, &pi, src_name, sizeof src_name)))
         return rc;
-    pg_cli_stage_end(cli);
+    pg_cli_stage_end(cli); /* every rank maps it: the figures of this stage count it shared */
+    pg_cli_memory_pause(cli, false);
     gen_loud(hushed);
     pg_error err = {0};
     if (is_world(a)) {
@@ -403,7 +446,11 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     const gen_scale sc = {ex->face_size, pg_planet_synth_magnification(ex, &p),
                           pg_planet_synth_keep_levels(ex, &p)}; /* ex is freed next */
     pg_cli_stage_end(cli);
+    /* The ranks of a machine unmap the shared exemplar together: a page that only one
+     * rank still maps counts as that rank's private memory (docs/mpi.md). */
+    if (g->mpi && !st) pg_cli_memory_pause(cli, true), pg_mpi_barrier(g->mpi);
     pg_synth_exemplar_free(ex);
+    if (g->mpi && !st) pg_mpi_barrier(g->mpi), pg_cli_memory_pause(cli, false);
     if (!st && coords) {
         st = adopt_coords(&planet, sc.face, coords, &err);
         if (st) pg_planet_free(&planet);
@@ -540,6 +587,8 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         "directory, equirectangular previews, globe renders and planet.glb to DIR.");
     gen_mpi g;
     if (rc < 0) rc = gen_mpi_start(cli, &a, &g);
+    /* --json: the peak private memory between stage ends too (every rank reports it) */
+    if (rc < 0 && cli->json_path) pg_cli_memory_watch(cli);
     if (rc >= 0) {
         gen_loud(&hushed);
         return rc;

@@ -33,7 +33,10 @@ typedef struct gen_args {
 typedef struct gen_mpi {
     pg_mpi *mpi;
     int rank, size;
+    int node_size, node_rank; /* the ranks on this rank's machine, and its number there */
+    int tiles;                /* --tiles */
     bool tiled;
+    double need; /* this rank's memory estimate (gen_check_memory_ranks) */
 } gen_mpi;
 
 /* The output namer handed to the writers: staged paths in dir (gen_path_for). */
@@ -76,6 +79,12 @@ pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg
 /* ---- cmd_generate_mpi.c ---- */
 
 int gen_fail_all(pg_cli *cli, const gen_mpi *g, const pg_error *err);
+/* The memory check of a distributed run: each rank's estimate `need` against its limit
+ * (pg_cli_memory_limit: --max-memory, or the available memory over the ranks on its
+ * machine); rank 0 names the rank that is furthest over in one line. Collective; every
+ * rank returns the same code. */
+int gen_check_memory_ranks(pg_cli *cli, gen_mpi *g, const char *what, double need,
+                           double max_memory_gb);
 int gen_hush(void);
 void gen_loud(int *saved);
 int gen_rank0_first_outdir(pg_cli *cli, const gen_args *a, gen_mpi *g);

@@ -2,7 +2,7 @@
  * docs/mpi.md): starting MPI and refusing what a distributed run cannot do, quiet ranks
  * while every rank checks the same inputs, rank 0 first where a directory or the cache
  * is created, a failure in one rank stopping the job, the tiled output, and the figures
- * of the run (bytes communicated, peak RSS per rank). In one process every function
+ * of the run (bytes communicated, memory per rank). In one process every function
  * here does what the single-process run needs and no more (g->mpi is NULL). */
 #include "cmd_generate.h"
 
@@ -49,6 +49,35 @@ void gen_loud(int *saved) {
     *saved = -1;
 }
 
+int gen_check_memory_ranks(pg_cli *cli, gen_mpi *g, const char *what, double need,
+                           double max_memory_gb) {
+    const double have = pg_cli_memory_limit(max_memory_gb, g->node_size);
+    g->need = need;
+    if (!g->mpi) return pg_cli_check_memory_shared(cli, what, need, have, max_memory_gb, 1);
+    const int P = g->size;
+    double *v = g->rank == 0 ? calloc(3 * (size_t)P, sizeof *v) : NULL, scratch[3];
+    pg_mpi_gather_double(g->mpi, need, v ? v : scratch);
+    pg_mpi_gather_double(g->mpi, have, v ? v + P : scratch);
+    pg_mpi_gather_double(g->mpi, g->node_size, v ? v + 2 * P : scratch);
+    int rc = 0;
+    if (g->rank == 0) {
+        int w = 0; /* the rank furthest over its limit (or nearest to it) */
+        for (int q = 1; v && q < P; q++)
+            if (v[q] * v[P + w] > v[w] * v[P + q]) w = q;
+        char what_rank[256];
+        snprintf(what_rank, sizeof what_rank, "mpirun -np %d, rank %d (%d of %d tiles): %s", P, w,
+                 pg_mpi_tile_first(6 * g->tiles * g->tiles, P, w + 1) -
+                     pg_mpi_tile_first(6 * g->tiles * g->tiles, P, w),
+                 6 * g->tiles * g->tiles, what);
+        rc =
+            v ? pg_cli_check_memory_shared(cli, what_rank, v[w], v[P + w], max_memory_gb,
+                                           (int)v[2 * P + w])
+              : pg_cli_check_memory_shared(cli, what_rank, need, have, max_memory_gb, g->node_size);
+    }
+    free(v);
+    return pg_mpi_max_int(g->mpi, rc);
+}
+
 /* Rank 0 first, then the others: the output directory and the exemplar cache are
  * created once and found by the other ranks. Returns the agreed exit code of rank 0's
  * attempt (0: go on). */
@@ -63,30 +92,87 @@ int gen_rank0_first_outdir(pg_cli *cli, const gen_args *a, gen_mpi *g) {
     return rc;
 }
 
-/* Every rank prepares the exemplar at once (the cache is written under a temporary
- * name and renamed, so concurrent writers are safe). Bad input fails on every rank
- * alike and rank 0 says so; any other failure is said by the rank that met it. */
+/* One exemplar per machine: the first rank of each machine prepares it (or maps it from
+ * the cache), then the others map the cache file it wrote, so a cold cache is prepared
+ * once per machine, not once per rank, and every rank maps the same file (the cache is
+ * written under a temporary name and renamed, so concurrent writers on a shared file
+ * system are safe). Without the cache (--no-cache) every rank prepares its own at once.
+ * Bad input fails on every rank alike and rank 0 says so; any other failure is said by
+ * the rank that met it. */
 int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hushed,
                            pg_synth_exemplar **ex, pg_synth_prep_info *pi, char *src_name,
                            size_t name_size) {
     pg_error err = {0};
     int rc = 0;
-    if (gen_prepare_exemplar(a, ex, pi, src_name, name_size, &err)) {
-        if (err.status != PG_ERR_BADINPUT) gen_loud(hushed);
-        rc = pg_cli_fail(cli, &err);
+    const bool first = a->no_cache || g->node_rank == 0;
+    *ex = NULL;
+    for (int round = 0; round < 2 && !rc; round++) {
+        if (round == !first && gen_prepare_exemplar(a, ex, pi, src_name, name_size, &err)) {
+            if (err.status != PG_ERR_BADINPUT) gen_loud(hushed);
+            rc = pg_cli_fail(cli, &err);
+        }
+        /* the first ranks are done; then also lines the ranks up before the synthesis */
+        rc = pg_mpi_max_int(g->mpi, rc);
     }
-    rc = pg_mpi_max_int(g->mpi, rc); /* also lines the ranks up before the synthesis */
     if (rc && !err.status) pg_synth_exemplar_free(*ex), *ex = NULL;
     return rc;
 }
 
-/* Figures of a distributed run: bytes sent per level (all ranks), peak RSS per rank.
+/* Each rank's memory, gathered on rank 0 into the report's "mpi" object: peak RSS, the
+ * peaks of private, shared and private dirty memory (smaps_rollup, pg_cli_smaps), the
+ * estimate it was checked with (gen_check_memory_ranks), and private and shared
+ * memory at the end of every stage (rank 0's stage names; -1 where a rank has no such
+ * stage). RSS counts the exemplar's pages in every rank that reads them; private memory
+ * does not count pages that other ranks map too. Collective. */
+static void report_memory(pg_cli *cli, gen_mpi *g, pg_json *o) {
+    const int P = g->size;
+    double *v = calloc((size_t)P, sizeof *v), scratch[1];
+    double *out = v ? v : scratch; /* only rank 0 reads the gathered values */
+    pg_cli_sample_memory(cli);
+    pthread_mutex_lock(&cli->lock);
+    const double mine[5] = {pg_cli_peak_rss_bytes(), cli->private_peak, cli->shared_peak,
+                            cli->private_dirty_peak, g->need};
+    pthread_mutex_unlock(&cli->lock);
+    static const char *const keys[5] = {
+        "peak_rss_bytes_per_rank", "peak_private_bytes_per_rank", "peak_shared_bytes_per_rank",
+        "peak_private_dirty_bytes_per_rank", "memory_estimate_bytes_per_rank"};
+    double rss_max = 0, priv_max = 0;
+    for (int k = 0; k < 5; k++) {
+        pg_mpi_gather_double(g->mpi, mine[k], out);
+        pg_json *a = o ? pg_json_set_array(o, keys[k]) : NULL;
+        for (int q = 0; a && v && q < P; q++)
+            pg_json_push_number(a, v[q]);
+        for (int q = 0; v && g->rank == 0 && q < P; q++) {
+            if (k == 0 && v[q] > rss_max) rss_max = v[q];
+            if (k == 1 && v[q] > priv_max) priv_max = v[q];
+        }
+    }
+    pg_json *st = o ? pg_json_set_array(o, "stages_per_rank") : NULL;
+    const int ns = pg_mpi_max_int(g->mpi, cli->nstages);
+    for (int i = 0; i < ns; i++) {
+        pg_json *s = st ? pg_json_push_object(st) : NULL;
+        if (s) pg_json_set_string(s, "name", i < cli->nstages ? cli->stages[i].name : "");
+        for (int k = 0; k < 2; k++) {
+            double x = i >= cli->nstages ? -1
+                       : k               ? cli->stages[i].shared_bytes
+                                         : cli->stages[i].private_bytes;
+            pg_mpi_gather_double(g->mpi, x, out);
+            pg_json *a = s ? pg_json_set_array(s, k ? "shared_bytes" : "private_bytes") : NULL;
+            for (int q = 0; a && v && q < P; q++)
+                pg_json_push_number(a, v[q]);
+        }
+    }
+    if (g->rank == 0)
+        pg_cli_info(cli, "memory   per rank: peak RSS up to %.0f MB, peak private up to %.0f MB\n",
+                    rss_max / 1e6, priv_max / 1e6);
+    free(v);
+}
+
+/* Figures of a distributed run: bytes sent per level (all ranks), memory per rank.
  * Collective: every rank calls it; rank 0 prints and reports. */
 void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
     const pg_mpi_stats *ms = pg_mpi_stats_get(g->mpi);
-    double *rss = calloc((size_t)g->size, sizeof *rss), halo[PG_MPI_MAX_SCALES],
-           gath[PG_MPI_MAX_SCALES], total = 0, rss_max = 0;
-    pg_mpi_gather_double(g->mpi, pg_cli_peak_rss_bytes(), rss ? rss : halo);
+    double halo[PG_MPI_MAX_SCALES], gath[PG_MPI_MAX_SCALES], total = 0;
     for (int s = 0; s < PG_MPI_MAX_SCALES; s++) {
         halo[s] = pg_mpi_sum_double(g->mpi, ms->halo_bytes[s]);
         gath[s] = pg_mpi_sum_double(g->mpi, ms->gather_bytes[s]);
@@ -96,33 +182,27 @@ void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
     double pbytes = pg_mpi_sum_double(g->mpi, ms->pits_bytes);
     double psec = pg_mpi_sum_double(g->mpi, ms->pits_seconds) / g->size;
     total += pbytes;
-    if (g->rank == 0 && rss) {
-        for (int q = 0; q < g->size; q++)
-            rss_max = rss[q] > rss_max ? rss[q] : rss_max;
+    pg_json *r = g->rank == 0 ? pg_cli_report(cli) : NULL;
+    pg_json *o = r ? pg_json_set_object(r, "mpi") : NULL;
+    if (g->rank == 0)
         pg_cli_info(cli,
                     "mpi      %d ranks; %.2f MB communicated (tile edges, level allgathers, "
                     "%.2f MB by the distributed pits); %.2f s per rank in exchanges, %.2f s in "
-                    "the pits; peak RSS per rank up to %.0f MB\n",
-                    g->size, total / 1e6, pbytes / 1e6, xsec, psec, rss_max / 1e6);
-        pg_json *r = pg_cli_report(cli);
-        pg_json *o = r ? pg_json_set_object(r, "mpi") : NULL;
-        if (o) {
-            pg_json_set_number(o, "ranks", g->size);
-            pg_json_set_number(o, "exchange_seconds_mean", xsec);
-            pg_json_set_number(o, "pits_seconds_mean", psec);
-            pg_json_set_number(o, "pits_bytes", pbytes);
-            pg_json *a = pg_json_set_array(o, "peak_rss_bytes_per_rank");
-            for (int q = 0; q < g->size; q++)
-                pg_json_push_number(a, rss[q]);
-            pg_json *h = pg_json_set_array(o, "halo_bytes_per_scale");
-            pg_json *ga = pg_json_set_array(o, "allgather_bytes_per_scale");
-            for (int s = 0; s <= s_top && s < PG_MPI_MAX_SCALES; s++) {
-                pg_json_push_number(h, halo[s]);
-                pg_json_push_number(ga, gath[s]);
-            }
+                    "the pits\n",
+                    g->size, total / 1e6, pbytes / 1e6, xsec, psec);
+    if (o) {
+        pg_json_set_number(o, "ranks", g->size);
+        pg_json_set_number(o, "exchange_seconds_mean", xsec);
+        pg_json_set_number(o, "pits_seconds_mean", psec);
+        pg_json_set_number(o, "pits_bytes", pbytes);
+        pg_json *h = pg_json_set_array(o, "halo_bytes_per_scale");
+        pg_json *ga = pg_json_set_array(o, "allgather_bytes_per_scale");
+        for (int s = 0; s <= s_top && s < PG_MPI_MAX_SCALES; s++) {
+            pg_json_push_number(h, halo[s]);
+            pg_json_push_number(ga, gath[s]);
         }
     }
-    free(rss);
+    report_memory(cli, g, o);
 }
 
 /* --geotiff with the tiled layout: the GeoTIFF tiles and their VRTs, from rank 0. In a
@@ -201,7 +281,8 @@ int gen_write_tiled(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *plane
 int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g) {
     int lrank = 0, P = pg_mpi_launcher_size(&lrank);
     memset(g, 0, sizeof *g);
-    g->size = 1;
+    g->size = g->node_size = 1;
+    g->tiles = (int)a->tiles;
     g->tiled = a->output_layout && !strcmp(a->output_layout, "tiled");
     if (P <= 1) return -1;
     if (!pg_mpi_built()) {
@@ -216,6 +297,8 @@ int gen_mpi_start(pg_cli *cli, const gen_args *a, gen_mpi *g) {
     if (pg_mpi_init(&g->mpi, &err)) return pg_cli_fail(cli, &err);
     g->rank = pg_mpi_rank(g->mpi);
     g->size = pg_mpi_size(g->mpi);
+    g->node_size = pg_mpi_node_size(g->mpi);
+    g->node_rank = pg_mpi_node_rank(g->mpi);
     g->tiled = true;
     int rc = -1;
     long ntiles = 6 * a->tiles * a->tiles;

@@ -49,6 +49,7 @@ static int run_command(const pg_command *c, int argc, char **argv) {
         return 1;
     }
     int rc = c->run(&cli, argc, argv);
+    pg_cli_memory_unwatch(&cli);
     pg_cli_unwatch_signals(&cli); /* before `cli` leaves scope: see pg_cli.c */
     return rc;
 }

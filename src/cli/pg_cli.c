@@ -22,6 +22,7 @@ void pg_cli_init(pg_cli *cli, const char *cmd) {
     memset(cli, 0, sizeof *cli);
     cli->cmd = cmd;
     pthread_mutex_init(&cli->lock, NULL);
+    pthread_cond_init(&cli->mem_wake, NULL);
 }
 
 int pg_cli_usage_error(pg_cli *cli, const char *fmt, ...) {
@@ -79,9 +80,18 @@ static pg_status stage_report(pg_cli *cli, pg_error *err) {
         pg_json_set_number(s, "cpu_seconds", cli->stages[i].cpu_seconds);
         pg_json_set_number(s, "minor_faults", cli->stages[i].minor_faults);
         pg_json_set_number(s, "major_faults", cli->stages[i].major_faults);
+        pg_json_set_number(s, "private_bytes", cli->stages[i].private_bytes);
+        pg_json_set_number(s, "shared_bytes", cli->stages[i].shared_bytes);
+        pg_json_set_number(s, "private_dirty_bytes", cli->stages[i].private_dirty_bytes);
     }
     pg_json_set_number(cli->report, "seconds_total", pg_cli_now() - cli->t_start);
     pg_json_set_number(cli->report, "peak_rss_bytes", pg_cli_peak_rss_bytes());
+    pg_cli_sample_memory(cli);
+    pthread_mutex_lock(&cli->lock);
+    pg_json_set_number(cli->report, "peak_private_bytes", cli->private_peak);
+    pg_json_set_number(cli->report, "peak_shared_bytes", cli->shared_peak);
+    pg_json_set_number(cli->report, "peak_private_dirty_bytes", cli->private_dirty_peak);
+    pthread_mutex_unlock(&cli->lock);
     if (cli->memory_estimate > 0)
         pg_json_set_number(cli->report, "memory_estimate_bytes", cli->memory_estimate);
     pg_json_set_number(cli->report, "threads", omp_get_max_threads());

@@ -72,7 +72,16 @@ typedef struct pg_cli {
         double peak_rss_bytes; /* the process's peak RSS when the stage ended */
         /* the process's CPU seconds (all threads) and page faults during the stage */
         double cpu_seconds, minor_faults, major_faults;
+        /* smaps_rollup when the stage ended (pg_cli_smaps): private pages (this process's
+         * alone) and shared ones (mapped by other processes too) */
+        double private_bytes, shared_bytes, private_dirty_bytes;
     } stages[PG_STAGE_MAX];
+    /* the largest private and shared memory of the samples taken at stage ends and,
+     * while pg_cli_memory_watch runs, every PG_CLI_SMAPS_INTERVAL seconds (under lock) */
+    double private_peak, shared_peak, private_dirty_peak;
+    pthread_t mem_watcher;
+    pthread_cond_t mem_wake; /* with lock: wakes the memory watcher to stop */
+    bool mem_watching, mem_stop, mem_paused;
     double stage_t0, stage_cpu0, stage_minflt0, stage_majflt0;
     char stage_name[48];
     double last_draw;
@@ -202,6 +211,35 @@ struct pg_json *pg_cli_report(pg_cli *cli);
 /* Peak resident set size of this process, in bytes. */
 double pg_cli_peak_rss_bytes(void);
 
+/* This process's memory from /proc/self/smaps_rollup: private (Private_Clean +
+ * Private_Dirty: pages no other process maps, what this process costs the machine),
+ * shared (Shared_Clean + Shared_Dirty: pages other processes map too, such as a cache
+ * file mapped by every rank on a node) and private dirty alone (what the process
+ * wrote: its allocations, without the clean pages of files that it alone maps, such as
+ * the exemplar's cache file in a single process). RSS counts both private and shared.
+ * Returns false (all 0) where the file cannot be read. */
+typedef struct pg_cli_smaps_figures {
+    double private_bytes, shared_bytes, private_dirty_bytes;
+} pg_cli_smaps_figures;
+bool pg_cli_smaps(pg_cli_smaps_figures *out);
+
+/* Samples pg_cli_smaps into cli->private_peak and shared_peak (stage ends do). */
+void pg_cli_sample_memory(pg_cli *cli);
+
+/* A thread that samples pg_cli_sample_memory every PG_CLI_SMAPS_INTERVAL seconds, so
+ * that the peak includes the moments between stage ends (a command's --json report:
+ * "peak_private_bytes"). pg_cli_memory_unwatch stops and joins it (main does, after
+ * every command; a no-op when none runs). Returns 0, or -1 when it cannot start (the
+ * stage ends still sample). */
+#define PG_CLI_SMAPS_INTERVAL 0.1
+int pg_cli_memory_watch(pg_cli *cli);
+void pg_cli_memory_unwatch(pg_cli *cli);
+/* Pause (or resume) the watcher's samples, for the moments when a mapping that other
+ * processes share is mapped by this one alone: ranks map and unmap the exemplar's cache
+ * file at slightly different times, and a page that only one of them maps is counted as
+ * its private memory. Stage ends still sample. */
+void pg_cli_memory_pause(pg_cli *cli, bool paused);
+
 /* Memory a run may use: MemAvailable from /proc/meminfo. The environment variable
  * PLANETGEN_MEM_AVAILABLE (bytes) replaces it, for containers whose /proc reports the
  * host and for tests that must provoke the refusal without a huge input. */
@@ -214,6 +252,15 @@ double pg_cli_available_bytes(void);
  * and returns 2; otherwise it records the estimate for the JSON report
  * ("memory_estimate_bytes") and returns 0. */
 int pg_cli_check_memory(pg_cli *cli, const char *what, double need, double max_memory_gb);
+
+/* The limit of one of `sharers` processes that share a machine's memory (the ranks of an
+ * MPI job on one node): --max-memory GB when max_memory_gb > 0 (a limit per process),
+ * else the available memory divided among them. */
+double pg_cli_memory_limit(double max_memory_gb, int sharers);
+/* pg_cli_check_memory for one such process, against `have` (pg_cli_memory_limit, possibly
+ * computed on another machine): the line names the share when sharers > 1. */
+int pg_cli_check_memory_shared(pg_cli *cli, const char *what, double need, double have,
+                               double max_memory_gb, int sharers);
 
 /* The --max-memory option of those commands; dest is a double, 0 = not given. */
 #define PG_CLI_MAX_MEMORY_OPT(dest)                                                                \

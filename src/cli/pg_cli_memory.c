@@ -1,4 +1,5 @@
-/* pg_cli_memory.c - memory in the CLI: the process's peak RSS, the memory a run may use,
+/* pg_cli_memory.c - memory in the CLI: the process's peak RSS, its private and shared
+ * memory (smaps_rollup, sampled by a watcher thread), the memory a run may use,
  * the check against it that commands make before any work, and the estimate of an
  * exemplar load from its inputs' headers. */
 #include "pg_cli.h"
@@ -9,13 +10,94 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/resource.h>
+#include <time.h>
 
 double pg_cli_peak_rss_bytes(void) {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     return 1024.0 * (double)ru.ru_maxrss;
+}
+
+bool pg_cli_smaps(pg_cli_smaps_figures *out) {
+    memset(out, 0, sizeof *out);
+    FILE *f = fopen("/proc/self/smaps_rollup", "r");
+    if (!f) return false;
+    char line[256], key[64];
+    double kb;
+    int seen = 0;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "%63[^:]: %lf kB", key, &kb) == 2) {
+            bool dirty = !strcmp(key, "Private_Dirty");
+            bool p = dirty || !strcmp(key, "Private_Clean");
+            bool s = !strcmp(key, "Shared_Clean") || !strcmp(key, "Shared_Dirty");
+            out->private_bytes += p ? kb * 1024.0 : 0;
+            out->shared_bytes += s ? kb * 1024.0 : 0;
+            out->private_dirty_bytes += dirty ? kb * 1024.0 : 0;
+            seen += p || s;
+        }
+    fclose(f);
+    return seen == 4;
+}
+
+void pg_cli_sample_memory(pg_cli *cli) {
+    pg_cli_smaps_figures m;
+    if (!pg_cli_smaps(&m)) return;
+    pthread_mutex_lock(&cli->lock);
+    if (m.private_bytes > cli->private_peak) cli->private_peak = m.private_bytes;
+    if (m.shared_bytes > cli->shared_peak) cli->shared_peak = m.shared_bytes;
+    if (m.private_dirty_bytes > cli->private_dirty_peak)
+        cli->private_dirty_peak = m.private_dirty_bytes;
+    pthread_mutex_unlock(&cli->lock);
+}
+
+static void *memory_watcher(void *arg) {
+    pg_cli *cli = arg;
+    for (;;) {
+        pthread_mutex_lock(&cli->lock);
+        bool paused = cli->mem_paused;
+        pthread_mutex_unlock(&cli->lock);
+        if (!paused) pg_cli_sample_memory(cli);
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        long ns = until.tv_nsec + (long)(PG_CLI_SMAPS_INTERVAL * 1e9);
+        until.tv_sec += ns / 1000000000L;
+        until.tv_nsec = ns % 1000000000L;
+        pthread_mutex_lock(&cli->lock);
+        while (!cli->mem_stop &&
+               pthread_cond_timedwait(&cli->mem_wake, &cli->lock, &until) != ETIMEDOUT) {
+        }
+        bool stop = cli->mem_stop;
+        pthread_mutex_unlock(&cli->lock);
+        if (stop) return NULL;
+    }
+}
+
+int pg_cli_memory_watch(pg_cli *cli) {
+    if (cli->mem_watching) return 0;
+    cli->mem_stop = false;
+    if (pthread_create(&cli->mem_watcher, NULL, memory_watcher, cli) != 0) return -1;
+    cli->mem_watching = true;
+    return 0;
+}
+
+void pg_cli_memory_pause(pg_cli *cli, bool paused) {
+    pthread_mutex_lock(&cli->lock);
+    cli->mem_paused = paused;
+    pthread_mutex_unlock(&cli->lock);
+}
+
+void pg_cli_memory_unwatch(pg_cli *cli) {
+    if (!cli->mem_watching) return;
+    pthread_mutex_lock(&cli->lock);
+    cli->mem_stop = true;
+    pthread_cond_signal(&cli->mem_wake);
+    pthread_mutex_unlock(&cli->lock);
+    pthread_join(cli->mem_watcher, NULL);
+    cli->mem_watching = false;
 }
 
 double pg_cli_available_bytes(void) {
@@ -34,16 +116,34 @@ double pg_cli_available_bytes(void) {
     return kb > 0 ? kb * 1024.0 : 8e9;
 }
 
-int pg_cli_check_memory(pg_cli *cli, const char *what, double need, double max_memory_gb) {
-    double have = max_memory_gb > 0 ? max_memory_gb * 1e9 : pg_cli_available_bytes();
-    if (!(need <= have))
+double pg_cli_memory_limit(double max_memory_gb, int sharers) {
+    if (max_memory_gb > 0) return max_memory_gb * 1e9;
+    return pg_cli_available_bytes() / (sharers > 1 ? sharers : 1);
+}
+
+int pg_cli_check_memory_shared(pg_cli *cli, const char *what, double need, double have,
+                               double max_memory_gb, int sharers) {
+    if (!(need <= have)) {
+        char limit[96];
+        if (max_memory_gb > 0)
+            snprintf(limit, sizeof limit, "allowed by --max-memory");
+        else if (sharers > 1)
+            snprintf(limit, sizeof limit, "available to each of the %d ranks on its machine",
+                     sharers);
+        else
+            snprintf(limit, sizeof limit, "available");
         return pg_cli_usage_error(cli,
                                   "%s: needs about %.2f GB of memory, more than the %.2f GB %s "
                                   "(raise it with --max-memory GB)",
-                                  what, need / 1e9, have / 1e9,
-                                  max_memory_gb > 0 ? "allowed by --max-memory" : "available");
+                                  what, need / 1e9, have / 1e9, limit);
+    }
     cli->memory_estimate = need;
     return 0;
+}
+
+int pg_cli_check_memory(pg_cli *cli, const char *what, double need, double max_memory_gb) {
+    return pg_cli_check_memory_shared(cli, what, need, pg_cli_memory_limit(max_memory_gb, 1),
+                                      max_memory_gb, 1);
 }
 
 /* Pixels and channels of one exemplar input from its header; 0 when it cannot be read

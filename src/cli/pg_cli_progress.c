@@ -44,6 +44,7 @@ static void usage_now(double *cpu, double *minflt, double *majflt) {
 }
 
 void pg_cli_stage_begin(pg_cli *cli, const char *name) {
+    pg_cli_sample_memory(cli);
     snprintf(cli->stage_name, sizeof cli->stage_name, "%s", name);
     cli->stage_t0 = pg_cli_now();
     usage_now(&cli->stage_cpu0, &cli->stage_minflt0, &cli->stage_majflt0);
@@ -74,6 +75,7 @@ void pg_cli_progress(pg_cli *cli, double frac) {
 
 void pg_cli_stage_end(pg_cli *cli) {
     double dt = pg_cli_now() - cli->stage_t0;
+    pg_cli_sample_memory(cli);
     if (cli->nstages < PG_STAGE_MAX) {
         snprintf(cli->stages[cli->nstages].name, sizeof cli->stages[0].name, "%s", cli->stage_name);
         cli->stages[cli->nstages].seconds = dt;
@@ -83,6 +85,11 @@ void pg_cli_stage_end(pg_cli *cli) {
         cli->stages[cli->nstages].cpu_seconds = cpu - cli->stage_cpu0;
         cli->stages[cli->nstages].minor_faults = minflt - cli->stage_minflt0;
         cli->stages[cli->nstages].major_faults = majflt - cli->stage_majflt0;
+        pg_cli_smaps_figures m;
+        pg_cli_smaps(&m);
+        cli->stages[cli->nstages].private_bytes = m.private_bytes;
+        cli->stages[cli->nstages].shared_bytes = m.shared_bytes;
+        cli->stages[cli->nstages].private_dirty_bytes = m.private_dirty_bytes;
         cli->nstages++;
     }
     if (cli->quiet) return;

@@ -82,6 +82,14 @@ pg_status pg_mpi_init(pg_mpi **out, pg_error *err) {
     m->comm = MPI_COMM_WORLD;
     MPI_Comm_rank(m->comm, &m->rank);
     MPI_Comm_size(m->comm, &m->size);
+    MPI_Comm node;
+    m->node_size = 1;
+    if (MPI_Comm_split_type(m->comm, MPI_COMM_TYPE_SHARED, m->rank, MPI_INFO_NULL, &node) ==
+        MPI_SUCCESS) {
+        MPI_Comm_size(node, &m->node_size);
+        MPI_Comm_rank(node, &m->node_rank);
+        MPI_Comm_free(&node);
+    }
     m->fail_rank = -1;
     const char *base = getenv(PG_MPI_TESTING_ID_BASE_ENV);
     if (base && sscanf(base, "%" SCNu64 ":%" SCNu64, &m->id_base, &m->id_stride) < 1)
@@ -375,6 +383,7 @@ void pg_mpi_synth_dist(pg_mpi *m, int tiles, pg_planet_synth_dist *d) {
     d->pits = pits_hook;
     d->stats = stats_hook;
     d->sum = sum_hook;
+    d->shared_exemplar = m->node_size > 1;
 }
 
 #else /* no MPI: the CLI refuses multi-rank launches before calling any of these */

@@ -59,6 +59,14 @@ int pg_mpi_size(const pg_mpi *m) {
     return m ? m->size : 1;
 }
 
+int pg_mpi_node_size(const pg_mpi *m) {
+    return m ? m->node_size : 1;
+}
+
+int pg_mpi_node_rank(const pg_mpi *m) {
+    return m ? m->node_rank : 0;
+}
+
 void pg_mpi_barrier(pg_mpi *m) {
     if (m) MPI_Barrier(m->comm);
 }
@@ -128,6 +136,16 @@ int pg_mpi_rank(const pg_mpi *m) {
 int pg_mpi_size(const pg_mpi *m) {
     (void)m;
     return 1;
+}
+
+int pg_mpi_node_size(const pg_mpi *m) {
+    (void)m;
+    return 1;
+}
+
+int pg_mpi_node_rank(const pg_mpi *m) {
+    (void)m;
+    return 0;
 }
 
 void pg_mpi_barrier(pg_mpi *m) {

@@ -43,6 +43,7 @@ struct pg_mpi_plan; /* the synthesis's exchange plan, pg_mpi.c's own */
 struct pg_mpi {
     MPI_Comm comm;
     int rank, size;
+    int node_size, node_rank; /* ranks on this rank's machine (MPI_COMM_TYPE_SHARED) */
     int tiles, ntiles;
     int fail_rank, fail_scale;
     uint64_t id_base, id_stride; /* tests only: pg_mpi_testing.h */

@@ -93,9 +93,12 @@ static pg_status prepare_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error
 
 /* A level read densely (at least one synthesized texel per 4 exemplar texels: the
  * finest two of the default planet) gets its tables copied out of the mapped cache
- * file for its duration; coarser levels touch few of their pages and read the mapping. */
+ * file for its duration; coarser levels touch few of their pages and read the mapping.
+ * Not when other processes on the machine share the mapping (dist->shared_exemplar):
+ * each copy would be private to its process. */
 static pg_status hold_level(pg_ps_ctx *c, int scale, int r, pg_error *err) {
     if (!c->own || 2 * (int64_t)r < c->ex->face_size) return PG_OK;
+    if (c->p->dist && c->p->dist->shared_exemplar) return PG_OK;
     int16_t *app;
     uint32_t *kcoh;
     pg_status st = pg_synth_copy_level(c->given, scale, &app, &kcoh, err);
