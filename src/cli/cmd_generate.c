@@ -187,26 +187,48 @@ static int check_memory(pg_cli *cli, const gen_args *a, const pg_planet_synth_pa
     return pg_cli_check_memory(cli, what, need, a->max_memory_gb);
 }
 
-pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
-                               char *src_name, size_t name_size, pg_error *err) {
+static void exemplar_params(const gen_args *a, pg_exemplar_opts *eo, pg_synth_exemplar_params *ep) {
+    pg_cli_exemplar_opts(&a->in, eo);
+    pg_synth_exemplar_params_default(ep);
+    ep->face_size = gen_face_size(a);
+    ep->levels = GEN_LEVELS;
+}
+
+/* A warm cache: the exemplar found by the sources' fingerprint, without decoding them
+ * (*ex NULL on a miss); *fp and *have_fp for recording a preparation. */
+static pg_status lookup_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                                 char *src_name, size_t name_size, uint64_t *fp, bool *have_fp,
+                                 pg_error *err) {
     pg_exemplar_opts eo;
-    pg_cli_exemplar_opts(&a->in, &eo);
     pg_synth_exemplar_params ep;
-    pg_synth_exemplar_params_default(&ep);
-    ep.face_size = gen_face_size(a);
-    ep.levels = GEN_LEVELS;
-    /* a warm cache: found by the sources' fingerprint, without decoding them */
-    const char *cache = a->no_cache ? "" : a->cache_dir;
+    exemplar_params(a, &eo, &ep);
     *ex = NULL;
-    uint64_t fp = 0;
+    *fp = 0;
     char an[512], hn[512];
     pg_error ferr = {0};
-    bool have_fp = !a->no_cache && pg_exemplar_fingerprint(&eo, &fp, an, hn, sizeof an, &ferr) == 0;
-    pg_status st = have_fp ? pg_synth_lookup_exemplar(fp, &ep, cache, ex, pi, err) : PG_OK;
-    if (st || *ex) {
-        if (*ex) snprintf(src_name, name_size, "%s + %s", an, hn);
-        return st;
-    }
+    *have_fp = !a->no_cache && pg_exemplar_fingerprint(&eo, fp, an, hn, sizeof an, &ferr) == 0;
+    pg_status st = *have_fp ? pg_synth_lookup_exemplar(*fp, &ep, a->cache_dir, ex, pi, err) : PG_OK;
+    if (!st && *ex) snprintf(src_name, name_size, "%s + %s", an, hn);
+    return st;
+}
+
+pg_status gen_cached_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                              char *src_name, size_t name_size, pg_error *err) {
+    uint64_t fp;
+    bool have_fp;
+    return lookup_exemplar(a, ex, pi, src_name, name_size, &fp, &have_fp, err);
+}
+
+pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                               char *src_name, size_t name_size, pg_error *err) {
+    uint64_t fp;
+    bool have_fp;
+    pg_status st = lookup_exemplar(a, ex, pi, src_name, name_size, &fp, &have_fp, err);
+    if (st || *ex) return st;
+    pg_exemplar_opts eo;
+    pg_synth_exemplar_params ep;
+    exemplar_params(a, &eo, &ep);
+    const char *cache = a->no_cache ? "" : a->cache_dir;
     pg_exemplar src;
     st = pg_exemplar_load(&eo, &src, err);
     if (st) return st;
@@ -409,8 +431,7 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     pg_synth_prep_info pi;
     char src_name[1100];
     pg_cli_stage_begin(cli, "prepare exemplar");
-    /* the ranks map the cached exemplar one after the other (pg_cli_memory_pause) */
-    if (g->mpi) pg_cli_memory_pause(cli, true);
+    /* paused while the ranks map the cached exemplar (gen_all_ranks_exemplar) */
     if ((rc = gen_all_ranks_exemplar(cli, a, g, hushed, &ex, &pi, src_name, sizeof src_name)))
         return rc;
     pg_cli_stage_end(cli); /* every rank maps it: the figures of this stage count it shared */

@@ -50,6 +50,9 @@ typedef struct path_ctx {
 /* Load the exemplar sources and prepare (or load from the cache) the exemplar cube. */
 pg_status gen_prepare_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
                                char *src_name, size_t name_size, pg_error *err);
+/* The exemplar from the cache only (*ex NULL on a miss). */
+pg_status gen_cached_exemplar(const gen_args *a, pg_synth_exemplar **ex, pg_synth_prep_info *pi,
+                              char *src_name, size_t name_size, pg_error *err);
 /* The staged path of output `name` in the path_ctx `user`. */
 const char *gen_path_for(const char *name, void *user);
 

@@ -106,10 +106,31 @@ int gen_all_ranks_exemplar(pg_cli *cli, const gen_args *a, gen_mpi *g, int *hush
     int rc = 0;
     const bool first = a->no_cache || g->node_rank == 0;
     *ex = NULL;
+    /* The memory samples (pg_cli_memory_pause): a first rank's preparation counts, its
+     * mapping of the cache file does not until the others map it too (the stage's end
+     * samples it shared); the others only map it. */
+    pg_cli_smaps_figures before;
+    pg_cli_memory_peaks(cli, &before, NULL);
     for (int round = 0; round < 2 && !rc; round++) {
         if (round == !first && gen_prepare_exemplar(a, ex, pi, src_name, name_size, &err)) {
             if (err.status != PG_ERR_BADINPUT) gen_loud(hushed);
             rc = pg_cli_fail(cli, &err);
+        }
+        if (g->mpi) pg_cli_memory_pause(cli, true);
+        if (g->mpi && round == !first && *ex && pi->from_cache)
+            pg_cli_memory_peaks(cli, NULL, &before);
+        /* A first rank that prepared the exemplar maps the cache file it wrote instead,
+         * the file the other ranks of its machine are about to map. */
+        if (round == 0 && first && !rc && *ex && !pi->from_cache && g->node_size > 1 &&
+            !a->no_cache) {
+            pg_synth_exemplar *mapped = NULL;
+            pg_synth_prep_info mpi_info;
+            char name[1100];
+            pg_error merr = {0};
+            if (!gen_cached_exemplar(a, &mapped, &mpi_info, name, sizeof name, &merr) && mapped) {
+                pg_synth_exemplar_free(*ex);
+                *ex = mapped; /* the same arrays; pi still says it was prepared */
+            }
         }
         /* the first ranks are done; then also lines the ranks up before the synthesis */
         rc = pg_mpi_max_int(g->mpi, rc);

@@ -239,6 +239,9 @@ void pg_cli_memory_unwatch(pg_cli *cli);
  * file at slightly different times, and a page that only one of them maps is counted as
  * its private memory. Stage ends still sample. */
 void pg_cli_memory_pause(pg_cli *cli, bool paused);
+/* The peaks so far (get), or put back peaks saved earlier (set: samples taken since,
+ * which counted such a mapping as private, are forgotten). */
+void pg_cli_memory_peaks(pg_cli *cli, pg_cli_smaps_figures *get, const pg_cli_smaps_figures *set);
 
 /* Memory a run may use: MemAvailable from /proc/meminfo. The environment variable
  * PLANETGEN_MEM_AVAILABLE (bytes) replaces it, for containers whose /proc reports the

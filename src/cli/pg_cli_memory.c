@@ -90,6 +90,18 @@ void pg_cli_memory_pause(pg_cli *cli, bool paused) {
     pthread_mutex_unlock(&cli->lock);
 }
 
+void pg_cli_memory_peaks(pg_cli *cli, pg_cli_smaps_figures *get, const pg_cli_smaps_figures *set) {
+    pthread_mutex_lock(&cli->lock);
+    if (get)
+        *get = (pg_cli_smaps_figures){cli->private_peak, cli->shared_peak, cli->private_dirty_peak};
+    if (set) {
+        cli->private_peak = set->private_bytes;
+        cli->shared_peak = set->shared_bytes;
+        cli->private_dirty_peak = set->private_dirty_bytes;
+    }
+    pthread_mutex_unlock(&cli->lock);
+}
+
 void pg_cli_memory_unwatch(pg_cli *cli) {
     if (!cli->mem_watching) return;
     pthread_mutex_lock(&cli->lock);
