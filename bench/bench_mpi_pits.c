@@ -113,6 +113,13 @@ static int worker(uint32_t n, int T) {
                    "%6.2f s | breach: peak +%7.1f MB = %5.1f B/owned cell, %6.2f s\n",
                    me, owned, peak[0] / 1024, peak[0] * 1024 / owned, secs[0], peak[1] / 1024,
                    peak[1] * 1024 / owned, secs[1]);
+        if (r == me)
+            printf("          breach: W by the fill %.2f s (flood %.2f s, rank 0 solving %.2f s, "
+                   "%d epsilon rounds %.2f s), then %d token rounds %.2f s\n",
+                   info.flood_seconds + info.solve_seconds + info.eps_seconds, info.flood_seconds,
+                   info.solve_seconds, info.eps_rounds, info.eps_seconds, info.breach_rounds,
+                   info.breach_seconds - info.flood_seconds - info.solve_seconds -
+                       info.eps_seconds);
         fflush(stdout);
     }
     munmap(h, nc * sizeof *h);
