@@ -137,6 +137,24 @@ static int worker(uint32_t n, int T, uint32_t seed, int mode) {
                    (unsigned long long)a.sinks, (unsigned long long)b.sinks,
                    stats_ok ? "same" : "DIFFERENT");
     }
+    /* the statistics of the breached result: no depression, found by the certificate
+     * in every rank (pg_mpi_pits_stats), by the search in the single process */
+    if (mode == 2 && !rc) {
+        pg_pits_stats a, b;
+        pg_pits_area area = {.constant = 2.5};
+        rc = pg_pits_stats_compute(&topo, ref, &o, &area, &a, &err) ||
+             pg_mpi_pits_stats(m, T, n, h, &o, &area, &b, &err);
+        rc = pg_mpi_max_int(m, rc);
+        stats_ok = !rc && a.depressions == 0 && b.depressions == 0 && b.depression_cells == 0 &&
+                   b.max_depth_m == 0 && b.depression_volume_m3 == 0 && a.sinks == b.sinks &&
+                   b.sinks > 0;
+        if (me == 0)
+            printf("stats after breach: serial %llu depressions %llu sinks, distributed %llu "
+                   "%llu: %s\n",
+                   (unsigned long long)a.depressions, (unsigned long long)a.sinks,
+                   (unsigned long long)b.depressions, (unsigned long long)b.sinks,
+                   stats_ok ? "same" : "DIFFERENT");
+    }
     free(h), free(ref);
     pg_mpi_finalize(m);
     return rc ? 2 : (diff == 0 && raised + lowered > 0 && stats_ok ? 0 : 1);

@@ -160,6 +160,29 @@ static void stats_bufs_free(stats_bufs *b) {
     free(b->fill), free(b->member), free(b->region), free(b->ring);
 }
 
+/* A certificate that the heights d->h (ring current) have no depression: every owned
+ * cell above the sea has a neighbour at or below it, or strictly lower (pits_drains_by
+ * with p = h: a walk along such neighbours falls strictly, so it ends at the sea, and
+ * the minimal fill raises nothing). What a removal with epsilon leaves passes it in one
+ * linear scan, as the single process's search does (pg_pits_stats.c, no_depression);
+ * a failed certificate proves nothing, and the full count follows. Counts the owned
+ * sinks into *sinks. */
+static int certify_drains(const pg_mpi_pits_grid *d, double *sinks) {
+    uint32_t nb[8];
+    int ok = 1;
+    PG_MPI_FOR_OWNED(d->g, id) {
+        if (pg_mpi_pits_sink(d, id)) {
+            *sinks += 1;
+            continue;
+        }
+        int k = pg_pits_neighbours(&d->g->t, id, nb), lower = 0;
+        for (int j = 0; j < k && !lower; j++)
+            lower = pg_mpi_pits_sink(d, nb[j]) || d->h[nb[j]] < d->h[id];
+        ok &= lower;
+    }
+    return ok;
+}
+
 pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, const pg_pits_opts *o,
                             const pg_pits_area *area, pg_pits_stats *out, pg_error *err) {
     pg_mpi_tiling g;
@@ -180,11 +203,23 @@ pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, co
     pg_mpi_pits_info info;
     const int me = pg_mpi_rank(m);
     pg_mpi_pits_grid d = {&g, b.fill, o->sea_level};
+    double sinks = 0;
+    if (!st) { /* first the certificate: all figures 0 when it holds on every rank */
+        pg_mpi_tiling_load(&g, h, b.fill);
+        st = pg_mpi_ring_exchange(&g, b.fill, sizeof(float), err);
+        int drains = !st && certify_drains(&d, &sinks);
+        if (!pg_mpi_max_int(m, st != PG_OK) && !pg_mpi_max_int(m, !drains)) {
+            out->sinks = (uint64_t)pg_mpi_sum_double(m, sinks);
+            stats_bufs_free(&b);
+            pg_mpi_tiling_free(&g);
+            return PG_OK;
+        }
+        sinks = 0;
+    }
     if (!st) {
         pg_mpi_tiling_load(&g, h, b.fill);
         st = pg_mpi_pits_fill_local(&d, &f, &info, err);
     }
-    double sinks = 0;
     if (!st) { /* then the epsilon-fill: the same rounds as the fill's, from the plain fill */
         PG_MPI_FOR_OWNED(&g, id) {
             float hc = h[pg_mpi_cube_id(&g, id)];
