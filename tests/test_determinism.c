@@ -72,7 +72,9 @@ static void mask_number(unsigned char *p, size_t n, const char *key) {
  * tiling itself and the seam statistic, which is taken over the tile edges and so
  * measures where the tiling puts them. */
 static bool volatile_key(const char *key, bool tiling) {
-    static const char *words[] = {"seconds", "rss", "per_second", "threads", "cache", "faults"};
+    static const char *words[] = {"seconds",       "rss",           "per_second",
+                                  "threads",       "cache",         "faults",
+                                  "private_bytes", "private_dirty", "shared_bytes"};
     for (size_t i = 0; i < sizeof words / sizeof *words; i++)
         if (strstr(key, words[i])) return true;
     return tiling && (strstr(key, "tile") || strstr(key, "seam_ratio"));
