@@ -68,12 +68,27 @@ typedef struct pg_planet {
      * before the final pit pass (pg_drainage_closed_land_share); NaN when unknown. */
     double closed_land_share_before_final;
     pg_planet_generation generation;
+    /* Nonzero when the faces were reserved by pg_planet_alloc_rows: the byte length of
+     * each face's albedo [f][0] and height [f][1] mapping, unmapped by pg_planet_free. */
+    size_t reserved_bytes[PG_CUBE_NFACES][2];
 } pg_planet;
 
 /* Allocate the faces (zeroed) and set the geometry. */
 pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
                           pg_ellipsoid ell, pg_error *err);
 void pg_planet_free(pg_planet *p);
+
+/* As pg_planet_alloc, but only rows [y0[f], y1[f]) of face f are usable (zeroed); the
+ * rest of each face is reserved address space, never committed, that faults when
+ * touched. For an MPI rank that writes and reads only its own tiles (docs/mpi.md,
+ * "Memory per rank"). pg_planet_free frees it as usual. */
+pg_status pg_planet_alloc_rows(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                               pg_ellipsoid ell, const int64_t y0[PG_CUBE_NFACES],
+                               const int64_t y1[PG_CUBE_NFACES], pg_error *err);
+
+/* Make every row of a planet from pg_planet_alloc_rows usable (the rows not yet
+ * written read as zero); nothing to do for any other planet. */
+pg_status pg_planet_open_all_rows(pg_planet *p, pg_error *err);
 
 /* ---- the coordinate map (pg_planet_source.c) ---- */
 

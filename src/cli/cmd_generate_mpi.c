@@ -227,11 +227,14 @@ void gen_report_mpi(pg_cli *cli, gen_mpi *g, int s_top) {
 }
 
 /* --geotiff with the tiled layout: the GeoTIFF tiles and their VRTs, from rank 0. In a
- * distributed run rank 0 holds only its own tiles, so it first reads the others'
- * from the files they committed. */
+ * distributed run rank 0 holds only its own tiles' rows, so it commits the rest of the
+ * planet and reads the others' tiles from the files they committed: the one step that
+ * holds the whole planet in one rank (docs/mpi.md, "What is not distributed"). */
 static pg_status write_geotiff_tiles(pg_cli *cli, const gen_args *a, gen_mpi *g, pg_planet *planet,
                                      pg_error *err) {
-    if (g->mpi && pg_planet_load_tile_files(a->outdir, planet, err)) return err->status;
+    if (g->mpi &&
+        (pg_planet_open_all_rows(planet, err) || pg_planet_load_tile_files(a->outdir, planet, err)))
+        return err->status;
     pg_export_opts o;
     pg_export_opts_default(&o);
     o.glb = o.exr = o.previews = false;

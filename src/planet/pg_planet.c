@@ -18,6 +18,7 @@
 #include "planetgen/pg_planet_tiles.h"
 #include "planetgen/pg_synth.h"
 #include "pg_planet_meta.h"
+#include "pg_span.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -25,8 +26,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
-                          pg_ellipsoid ell, pg_error *err) {
+/* The fields of a planet without faces. */
+static void planet_fields(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                          pg_ellipsoid ell) {
     memset(p, 0, sizeof *p);
     p->tiles = tiles;
     p->tile_size = tile_size;
@@ -34,6 +36,11 @@ pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int 
     p->projection = proj;
     p->ellipsoid = ell;
     p->closed_land_share_before_final = NAN;
+}
+
+pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                          pg_ellipsoid ell, pg_error *err) {
+    planet_fields(p, proj, tiles, tile_size, ell);
     size_t nn = (size_t)p->n * (size_t)p->n;
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
         p->albedo[f] = calloc(nn * 3, sizeof(float));
@@ -47,10 +54,53 @@ pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int 
     return PG_OK;
 }
 
+pg_status pg_planet_alloc_rows(pg_planet *p, pg_cube_projection proj, int tiles, int tile_size,
+                               pg_ellipsoid ell, const int64_t y0[PG_CUBE_NFACES],
+                               const int64_t y1[PG_CUBE_NFACES], pg_error *err) {
+    planet_fields(p, proj, tiles, tile_size, ell);
+    pg_status st = PG_OK;
+    const size_t n = (size_t)p->n, nn = n * n;
+    for (int f = 0; f < PG_CUBE_NFACES && !st; f++) {
+        for (int k = 0; k < 2 && !st; k++) {
+            const size_t per = k ? 1 : 3, row = n * per * sizeof(float);
+            pg_span s;
+            st = pg_span_reserve(&s, nn * per * sizeof(float), err);
+            if (st) break;
+            if (k)
+                p->height[f] = s.base;
+            else
+                p->albedo[f] = s.base;
+            p->reserved_bytes[f][k] = s.bytes;
+            if (y1[f] > y0[f])
+                st = pg_span_open(&s, (size_t)y0[f] * row, (size_t)(y1[f] - y0[f]) * row, err);
+        }
+    }
+    if (st) pg_planet_free(p);
+    return st;
+}
+
+pg_status pg_planet_open_all_rows(pg_planet *p, pg_error *err) {
+    pg_status st = PG_OK;
+    for (int f = 0; f < PG_CUBE_NFACES && !st; f++) {
+        pg_span a = {p->albedo[f], p->reserved_bytes[f][0]};
+        pg_span h = {p->height[f], p->reserved_bytes[f][1]};
+        st = pg_span_open(&a, 0, a.bytes, err);
+        if (!st) st = pg_span_open(&h, 0, h.bytes, err);
+    }
+    return st;
+}
+
 void pg_planet_free(pg_planet *p) {
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
-        free(p->albedo[f]);
-        free(p->height[f]);
+        if (p->reserved_bytes[f][0] || p->reserved_bytes[f][1]) {
+            pg_span a = {p->albedo[f], p->reserved_bytes[f][0]};
+            pg_span h = {p->height[f], p->reserved_bytes[f][1]};
+            pg_span_free(&a), pg_span_free(&h);
+            p->reserved_bytes[f][0] = p->reserved_bytes[f][1] = 0;
+        } else {
+            free(p->albedo[f]);
+            free(p->height[f]);
+        }
         p->albedo[f] = p->height[f] = NULL;
     }
     pg_planet_source_free(p);

@@ -28,6 +28,7 @@
  * algorithm. */
 #include "pg_planet_synth_internal.h"
 #include "pg_planet_synth_testing.h"
+#include "pg_span.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -189,6 +190,51 @@ static pg_status synthesize(pg_ps_ctx *c, pg_ps_level *out, pg_error *err) {
 
 /* ---------------------------------------- the run ---------------------------------------- */
 
+/* The rows [y0[f], y1[f]) of each face that hold this process's tiles at the delivered
+ * size (every row when whole). */
+static void owned_face_rows(const pg_ps_ctx *c, bool whole, int64_t *y0, int64_t *y1) {
+    for (int f = 0; f < 6; f++) {
+        int a = 0, b = (int)c->Nout;
+        if (!whole) pg_ps_owned_rows(c, (int)c->Nout, f, &a, &b);
+        y0[f] = a, y1[f] = b;
+    }
+}
+
+/* The delivered heights H: the whole planet in one process; a distributed process that
+ * touches only its tiles reserves the planet's range and commits only its tiles' rows
+ * (pg_span.h), so its memory and its commit charge follow its tiles. */
+static pg_status heights_alloc(const pg_ps_ctx *c, bool whole, float **H, pg_span *span,
+                               pg_error *err) {
+    const size_t n = (size_t)c->Nout, px = 6 * n * n;
+    if (whole) {
+        *H = malloc(px * sizeof **H);
+        return *H ? PG_OK
+                  : pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
+    }
+    int64_t y0[6], y1[6];
+    owned_face_rows(c, whole, y0, y1);
+    pg_status st = pg_span_reserve(span, px * sizeof **H, err);
+    for (int f = 0; f < 6 && !st; f++)
+        if (y1[f] > y0[f])
+            st = pg_span_open(span, ((size_t)f * n + (size_t)y0[f]) * n * sizeof **H,
+                              (size_t)(y1[f] - y0[f]) * n * sizeof **H, err);
+    if (st) pg_span_free(span);
+    *H = st ? NULL : span->base;
+    return st;
+}
+
+/* The delivered planet, the same way: whole, or only this process's tiles' rows. */
+static pg_status planet_alloc(const pg_ps_ctx *c, bool whole, pg_planet *out, pg_error *err) {
+    const pg_planet_synth_params *p = c->p;
+    if (whole)
+        return pg_planet_alloc(out, PG_CUBE_DEFAULT_PROJECTION, p->tiles, p->tile_size,
+                               pg_ellipsoid_sphere(), err);
+    int64_t y0[6], y1[6];
+    owned_face_rows(c, whole, y0, y1);
+    return pg_planet_alloc_rows(out, PG_CUBE_DEFAULT_PROJECTION, p->tiles, p->tile_size,
+                                pg_ellipsoid_sphere(), y0, y1, err);
+}
+
 pg_status pg_planet_synth_run(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                               pg_planet *out, uint32_t **coords_out, pg_planet_synth_info *info,
                               pg_error *err) {
@@ -217,18 +263,20 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     if (!st) st = synthesize(&c, &L, err);
     info->synth_seconds = pg_synth_now() - t0;
     size_t px = (size_t)6 * c.Nout * c.Nout;
-    float *H = NULL;
-    bool whole = false;
-    double closed = NAN;
-    if (!st && !(H = malloc(px * sizeof *H)))
-        st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
+    /* Distributed without the pits hooks: the final pit removal and the depression
+     * counts are whole-planet steps, run by every process on the whole level
+     * (docs/mpi.md); otherwise the magnification needs the two texel rings around
+     * this process's tiles, and the hooks exchange what the pits need. */
+    bool all = false, whole = true;
     if (!st) {
-        /* Distributed without the pits hooks: the final pit removal and the depression
-         * counts are whole-planet steps, run by every process on the whole level
-         * (docs/mpi.md); otherwise the magnification needs the two texel rings around
-         * this process's tiles, and the hooks exchange what the pits need. */
-        bool all = !pg_ps_dist_final(&c) && ((p->pits && p->final_pits) || p->pit_stats);
+        all = !pg_ps_dist_final(&c) && ((p->pits && p->final_pits) || p->pit_stats);
         whole = !p->dist || all;
+    }
+    float *H = NULL;
+    pg_span Hs = {0};
+    double closed = NAN;
+    if (!st) st = heights_alloc(&c, whole, &H, &Hs, err);
+    if (!st) {
         st = pg_ps_exchange(&c, 0, &L, all ? -1 : 2, err);
         if (!st && all && p->dist) st = pg_ps_border_build(&c, &L, c.S, true, &c.bm, err);
         if (!st) {
@@ -243,9 +291,7 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
         st = pg_ps_final_pits(&c, H, whole, &closed, err);
     }
     t0 = pg_synth_now();
-    if (!st)
-        st = pg_planet_alloc(out, PG_CUBE_DEFAULT_PROJECTION, p->tiles, p->tile_size,
-                             pg_ellipsoid_sphere(), err);
+    if (!st) st = planet_alloc(&c, whole, out, err);
     if (!st && coords_out && !(*coords_out = malloc(px * sizeof(uint32_t))))
         st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (coords)");
     if (!st) {
@@ -255,7 +301,10 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
         pg_ps_render(&c, &L, H, out, coords_out ? *coords_out : NULL);
     }
     info->render_seconds = pg_synth_now() - t0;
-    free(H);
+    if (Hs.base)
+        pg_span_free(&Hs);
+    else
+        free(H);
     pg_ps_level_free(&L);
     ctx_free(&c);
     if (st) {
