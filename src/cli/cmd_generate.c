@@ -143,8 +143,14 @@ static double gen_exemplar_bytes(const gen_args *a) {
  * every rank of 2 and 4 */
 #define GEN_RANK_BASE_BYTES 50e6
 /* per delivered texel: 19.1 B (N 512 -> 1024) and 20.1 B (N 1024 -> 2048) of peak
- * private memory per added texel in one process; rounded up by a fifth */
+ * private memory per added texel in one process; under mpirun at 100 Mpx, 21.0 B (2
+ * ranks) and 20.8 B (4 ranks) per owned texel above the base, the larger of the final
+ * pass (H and the breach) and the delivery; rounded up */
 #define GEN_RANK_BYTES_PER_TEXEL 24.0
+/* rank 0 alone: the spill graph of the distributed fill while it solves it, about 55 B
+ * per edge, and 11.4 S edges per tile of S^2 (140 426 for 96 tiles of 128^2) */
+#define GEN_RANK0_BYTES_PER_EDGE 55.0
+#define GEN_RANK0_EDGES_PER_TILE_EDGE 11.4
 /* per synthesized texel of the pyramid (4/3 of the finest synthesized level): S and V
  * with the parent level, orientation and Gain-pit (pg_planet_synth_bytes's synthesis
  * phase, 15.5 B; counted, not measured: on these planets the delivery is the peak) */
@@ -153,8 +159,8 @@ static double gen_exemplar_bytes(const gen_args *a) {
 #define GEN_RANK_RING_WIDTH 2
 
 /* One rank's peak: its tiles' share of the delivered planet and of the synthesized
- * pyramid, the ring around them, its base, and the exemplar counted once per machine
- * (its cold preparation, the larger figure, shared by the ranks there that map its cache
+ * pyramid, the ring around them, its base, rank 0's spill graph, and the exemplar counted once per
+ * machine (its cold preparation, the larger figure, shared by the ranks there that map its cache
  * file; --no-cache: every rank holds its own). */
 static double gen_rank_bytes(const gen_args *a, const pg_planet_synth_params *p, const gen_mpi *g) {
     const int nt = 6 * p->tiles * p->tiles;
@@ -165,8 +171,11 @@ static double gen_rank_bytes(const gen_args *a, const pg_planet_synth_params *p,
     const double synth = 4.0 / 3.0 * owned / nt * 6.0 * nsyn * nsyn;
     const double ring = owned * 4.0 * (S + 2 * GEN_RANK_RING_WIDTH) * GEN_RANK_RING_WIDTH;
     const double sharers = a->no_cache ? 1 : g->node_size;
+    const double graph = g->rank == 0 && (p->pits || p->pit_stats)
+                             ? GEN_RANK0_BYTES_PER_EDGE * GEN_RANK0_EDGES_PER_TILE_EDGE * S * nt
+                             : 0;
     return GEN_RANK_BASE_BYTES + GEN_RANK_BYTES_PER_TEXEL * (owned * S * S + ring) +
-           GEN_RANK_BYTES_PER_SYNTH_TEXEL * synth + gen_exemplar_bytes(a) / sharers;
+           GEN_RANK_BYTES_PER_SYNTH_TEXEL * synth + graph + gen_exemplar_bytes(a) / sharers;
 }
 
 /* with_map: the single-file layout keeps the coordinate map, 4 bytes per texel held
