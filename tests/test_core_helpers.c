@@ -2,11 +2,20 @@
  * (pg_array.h) grows by doubling, keeps its contents, refuses sizes that would wrap
  * around size_t instead of allocating a small block, and leaves the array untouched on
  * refusal; the 3-vector helpers (pg_vec3.h) satisfy the identities of the algebra and
- * compute exactly the expressions they replaced. */
+ * compute exactly the expressions they replaced; a reserved span (pg_span.h) and a
+ * planet of some rows (pg_planet_alloc_rows) commit only the opened rows, which read
+ * as zero, and a touch of any other row faults. */
 #include "pg_test.h"
 
 #include "pg_array.h"
+#include "pg_span.h"
 #include "pg_vec3.h"
+#include "planetgen/pg_planet.h"
+
+#include <signal.h>
+#include <stdio.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <math.h>
 #include <stdint.h>
@@ -183,12 +192,99 @@ static void test_vec3_length_normalize(void **state) {
     assert_true(zero[0] == 0 && zero[1] == 0 && zero[2] == 0);
 }
 
+/* Touch *p in a child process: 1 when the child died of the touch (a fault; under
+ * ASan, its report and exit 1), 0 when it wrote and read the value back. */
+static int touch_faults(volatile float *p) {
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        signal(SIGSEGV, SIG_DFL); /* not cmocka's handler, which would go on in the child */
+        signal(SIGBUS, SIG_DFL);
+        *p = 1.5f;
+        _exit(*p == 1.5f ? 0 : 3);
+    }
+    int st = 0;
+    assert_true(pid > 0 && waitpid(pid, &st, 0) == pid);
+    if (WIFEXITED(st) && WEXITSTATUS(st) == 0) return 0;
+    return (WIFSIGNALED(st) && WTERMSIG(st) == SIGSEGV) || (WIFEXITED(st) && WEXITSTATUS(st) == 1);
+}
+
+/* under valgrind a deliberate fault counts as an error of the run: skip that part */
+static int under_valgrind(void) {
+    const char *p = getenv("LD_PRELOAD");
+    return p && strstr(p, "vgpreload");
+}
+
+static void test_span_opens_only_its_rows(void **state) {
+    (void)state;
+    pg_error err = {0};
+    pg_span s;
+    const size_t row = 1 << 16, rows = 64; /* 4 MB */
+    assert_int_equal(pg_span_reserve(&s, rows * row, &err), PG_OK);
+    assert_non_null(s.base);
+    assert_int_equal(pg_span_open(&s, 10 * row, 5 * row, &err), PG_OK);
+    float *f = s.base;
+    const size_t per = row / sizeof(float);
+    for (size_t i = 10 * per; i < 15 * per; i++)
+        assert_true(f[i] == 0.0f), f[i] = (float)i;
+    assert_true(f[12 * per + 7] == (float)(12 * per + 7));
+    /* opening again (overlapping) keeps what was written */
+    assert_int_equal(pg_span_open(&s, 12 * row, 10 * row, &err), PG_OK);
+    assert_true(f[12 * per + 7] == (float)(12 * per + 7));
+    assert_true(f[21 * per] == 0.0f);
+    if (!under_valgrind()) {
+        assert_int_equal(touch_faults(&f[11 * per]), 0);
+        assert_int_equal(touch_faults(&f[9 * per]), 1);  /* below the opened rows */
+        assert_int_equal(touch_faults(&f[40 * per]), 1); /* above */
+    }
+    pg_span_free(&s);
+    assert_null(s.base);
+    pg_span_free(&s); /* safe twice */
+}
+
+static void test_planet_alloc_rows(void **state) {
+    (void)state;
+    pg_error err = {0};
+    pg_planet p;
+    const int64_t y0[6] = {0, 0, 24, 0, 0, 0}, y1[6] = {0, 0, 40, 64, 0, 0};
+    assert_int_equal(pg_planet_alloc_rows(&p, PG_CUBE_DEFAULT_PROJECTION, 4, 16,
+                                          pg_ellipsoid_sphere(), y0, y1, &err),
+                     PG_OK);
+    assert_int_equal(p.n, 64);
+    for (int f = 2; f <= 3; f++)
+        for (int64_t y = y0[f]; y < y1[f]; y++)
+            for (int64_t x = 0; x < 64; x++) {
+                assert_true(p.height[f][y * 64 + x] == 0.0f);
+                p.height[f][y * 64 + x] = (float)y;
+                p.albedo[f][(y * 64 + x) * 3 + 2] = 0.5f;
+            }
+    assert_true(p.height[3][63 * 64 + 63] == 63.0f);
+    if (!under_valgrind()) {
+        /* rows far from the open ones, beyond any page rounding (a row is 256 B) */
+        assert_int_equal(touch_faults(&p.height[2][0]), 1);
+        assert_int_equal(touch_faults(&p.albedo[2][0]), 1);
+        assert_int_equal(touch_faults(&p.height[0][32 * 64]), 1);
+        assert_int_equal(touch_faults(&p.height[3][5]), 0);
+    }
+    /* and the whole planet on demand: old rows kept, new rows zero */
+    assert_int_equal(pg_planet_open_all_rows(&p, &err), PG_OK);
+    assert_true(p.height[2][30 * 64] == 30.0f && p.height[0][32 * 64] == 0.0f);
+    if (!under_valgrind()) assert_int_equal(touch_faults(&p.height[0][32 * 64]), 0);
+    pg_planet_free(&p);
+    assert_null(p.height[2]);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_array_growth),          cmocka_unit_test(test_array_reserve_jumps),
-        cmocka_unit_test(test_array_zero_sizes),      cmocka_unit_test(test_array_overflow_refused),
-        cmocka_unit_test(test_vec3_arithmetic),       cmocka_unit_test(test_vec3_cross),
+        cmocka_unit_test(test_array_growth),
+        cmocka_unit_test(test_array_reserve_jumps),
+        cmocka_unit_test(test_array_zero_sizes),
+        cmocka_unit_test(test_array_overflow_refused),
+        cmocka_unit_test(test_vec3_arithmetic),
+        cmocka_unit_test(test_vec3_cross),
         cmocka_unit_test(test_vec3_length_normalize),
+        cmocka_unit_test(test_span_opens_only_its_rows),
+        cmocka_unit_test(test_planet_alloc_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
