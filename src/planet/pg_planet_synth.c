@@ -40,12 +40,12 @@ static void ctx_free(pg_ps_ctx *c) {
     free(c->own);
     free(c->bm.dst);
     free(c->bm.src);
-    free(c->bm.orient);
+    pg_ps_rows_free(c->bm.orient, &c->bm.sorient);
     free(c->etype);
     for (int t = 0; t < PG_TYPE_COUNT; t++)
         free(c->valid[t]);
-    free(c->mask);
-    free(c->guide);
+    pg_ps_rows_free(c->mask, &c->smask);
+    pg_ps_rows_free(c->guide, &c->sguide);
     free(c->world_t);
     free(c->world_p);
 }
@@ -71,22 +71,41 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
     size_t nb = (size_t)6 * 4 * (c->N + 2);
     c->bm.dst = malloc(nb * sizeof(size_t));
     c->bm.src = malloc(nb * sizeof(size_t));
-    size_t px = (size_t)6 * c->N * c->N;
-    if (p->types) c->mask = malloc(px);
-    if (p->guide) c->guide = malloc(px * sizeof(float));
-    if (!c->bm.dst || !c->bm.src || (p->types && !c->mask) || (p->guide && !c->guide))
+    /* the type mask and the guide of each level, at the finest level's size; distributed,
+     * reserved with no row open: each level opens its window (prepare_level) */
+    const pg_ps_window none = {.whole = false};
+    void *mask = NULL, *guide = NULL;
+    pg_status st = PG_OK;
+    if (p->types) st = pg_ps_rows_alloc(c, &none, (int)c->N, 0, 1, false, &mask, &c->smask, err);
+    if (!st && p->guide)
+        st =
+            pg_ps_rows_alloc(c, &none, (int)c->N, 0, sizeof(float), false, &guide, &c->sguide, err);
+    c->mask = mask, c->guide = guide;
+    if (st) return st;
+    if (!c->bm.dst || !c->bm.src)
         return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
     for (int s = 0; s <= c->s_top; s++)
         c->work_total += 1.0 / ((double)(1 << s) * (1 << s));
-    pg_status st = pg_ps_types_setup(c, err);
+    st = pg_ps_types_setup(c, err);
     return st ? st : pg_ps_world_setup(c, err);
 }
 
 /* ------------------------------------- the pyramid ------------------------------------- */
 
+/* The mask and the guide share one layout per level (6 r^2, no border): distributed,
+ * this level's window of them is opened (what coarser levels opened stays open). */
+static pg_status open_level_buffers(pg_ps_ctx *c, const pg_ps_level *L, pg_error *err) {
+    pg_status st = PG_OK;
+    if (c->smask.base) st = pg_ps_rows_open(&L->win, L->r, 0, 1, &c->smask, err);
+    if (!st && c->sguide.base)
+        st = pg_ps_rows_open(&L->win, L->r, 0, sizeof(float), &c->sguide, err);
+    return st;
+}
+
 static pg_status prepare_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
     int ts = c->S >> scale;
-    pg_status st = pg_ps_border_build(c, L, ts, false, &c->bm, err);
+    pg_status st = open_level_buffers(c, L, err);
+    if (!st) st = pg_ps_border_build(c, L, ts, false, &c->bm, err);
     if (!st) st = pg_ps_types_level(c, L->r, ts, err);
     if (!st) st = pg_ps_guide_level(c, L->r, err);
     return st;
@@ -148,7 +167,7 @@ static pg_status run_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
 static pg_status synthesize(pg_ps_ctx *c, pg_ps_level *out, pg_error *err) {
     pg_ps_level cur = {0}, nxt = {0};
     const int r_top = (int)(c->N >> c->s_top);
-    if (pg_ps_level_alloc(&cur, r_top))
+    if (pg_ps_level_alloc(c, &cur, c->s_top, r_top))
         return pg_ps_level_free(&cur),
                pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory");
     pg_status st = prepare_level(c, c->s_top, &cur, err);
@@ -161,7 +180,7 @@ static pg_status synthesize(pg_ps_ctx *c, pg_ps_level *out, pg_error *err) {
     c->info->level_seconds[c->info->nlevels++] = pg_synth_now() - t0;
     for (int s = c->s_top - 1; s >= 0 && !st; s--) {
         t0 = pg_synth_now();
-        if (pg_ps_level_alloc(&nxt, cur.r * 2)) {
+        if (pg_ps_level_alloc(c, &nxt, s, cur.r * 2)) {
             st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory at %d^2",
                               cur.r * 2);
             break;
@@ -286,7 +305,7 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
         }
     }
     if (!st) {
-        free(L.V); /* S stays for the albedo */
+        pg_ps_rows_free(L.V, &L.sV); /* S stays for the albedo */
         L.V = NULL;
         st = pg_ps_final_pits(&c, H, whole, &closed, err);
     }

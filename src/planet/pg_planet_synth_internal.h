@@ -14,19 +14,35 @@
 #define PG_PLANET_SYNTH_INTERNAL_H
 
 #include "planetgen/pg_planet_synth.h"
+#include "pg_span.h"
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
+/* The rows of a level that this process touches (docs/mpi.md, "Memory per rank"): every
+ * row in one process and at the levels a distributed process holds whole (the coarsest,
+ * made by every process; levels the tiles do not divide; levels gathered for the pits,
+ * the land agreement or a final pass without hooks); else, per face, the rows of its
+ * own tiles widened by PG_PS_WINDOW_MARGIN (the exchanges' rings are at most 2 wide,
+ * the reads one more), unclipped: each array clips them to its own border. */
+#define PG_PS_WINDOW_MARGIN 3
+typedef struct pg_ps_window {
+    bool whole;
+    int y0[6], y1[6]; /* per face; y0 == y1: no row */
+} pg_ps_window;
+
 /* One level of the pyramid: the six faces as (r + 2)^2 arrays of exemplar coordinates S
- * and offsets V, with a one-texel border around each face. */
+ * and offsets V, with a one-texel border around each face. Distributed, the arrays are
+ * reserved whole and only the window's rows committed (pg_span.h). */
 typedef struct pg_ps_level {
     int r;        /* texels per face edge */
     ptrdiff_t st; /* row stride r + 2 */
     size_t fsz;   /* (r + 2)^2 */
     uint32_t *S;  /* 6 * fsz */
     float *V;
+    pg_ps_window win;
+    pg_span sS, sV; /* distributed: the reservations behind S and V */
 } pg_ps_level;
 
 /* The face borders: for each border texel its source (a texel of a neighbouring face)
@@ -37,7 +53,8 @@ typedef struct pg_ps_level {
  * (docs/mpi.md, "Memory per rank"), so no process stores a foreign face's edge. */
 typedef struct pg_ps_border {
     size_t n, nlocal, *dst, *src;
-    uint8_t *orient; /* 6 * fsz, zero inside; allocated per level, untouched far from owned tiles */
+    uint8_t *orient; /* 6 * fsz, zero inside; allocated per level, in the level's window */
+    pg_span sorient;
 } pg_ps_border;
 
 /* The run's context: parameters resolved once, buffers that live for the whole run. */
@@ -62,7 +79,9 @@ typedef struct pg_ps_ctx {
     size_t nvalid[PG_TYPE_COUNT];
     uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
     /* guide */
-    float *guide; /* per level texel, metres */
+    float *guide;          /* per level texel, metres */
+    pg_span smask, sguide; /* distributed: reserved at the finest level's size, each
+                              level's window opened as it comes */
     /* layout world: the exemplar's own coarse climate (pg_planet_synth_world.c) */
     float *world_t, *world_p;
     pg_planet_synth_info *info;
@@ -112,7 +131,13 @@ static inline uint8_t pg_ps_mask_at(const pg_ps_ctx *c, int r, int f, long x, lo
 
 /* --------------------------- pg_planet_synth_level.c --------------------------- */
 
-pg_status pg_ps_level_alloc(pg_ps_level *L, int r);
+pg_ps_window pg_ps_level_window(const pg_ps_ctx *c, int scale, int r);
+pg_status pg_ps_rows_alloc(const pg_ps_ctx *c, const pg_ps_window *w, int r, int pad, size_t elem,
+                           bool zero, void **out, pg_span *span, pg_error *err);
+pg_status pg_ps_rows_open(const pg_ps_window *w, int r, int pad, size_t elem, pg_span *span,
+                          pg_error *err);
+void pg_ps_rows_free(void *p, pg_span *span);
+pg_status pg_ps_level_alloc(const pg_ps_ctx *c, pg_ps_level *L, int scale, int r);
 void pg_ps_level_free(pg_ps_level *L);
 pg_status pg_ps_border_build(const pg_ps_ctx *c, const pg_ps_level *L, int ts, bool all,
                              pg_ps_border *b, pg_error *err);

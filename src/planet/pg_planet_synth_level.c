@@ -17,18 +17,84 @@
 
 /* ---------------------------------- level storage ---------------------------------- */
 
-pg_status pg_ps_level_alloc(pg_ps_level *L, int r) {
+pg_ps_window pg_ps_level_window(const pg_ps_ctx *c, int scale, int r) {
+    const pg_planet_synth_params *p = c->p;
+    pg_ps_window w = {.whole = true};
+    for (int f = 0; f < 6; f++)
+        w.y0[f] = 0, w.y1[f] = r;
+    if (!p->dist || scale == c->s_top || r % c->T != 0) return w;
+    if (p->pits && scale >= p->pit_skip_levels && !pg_ps_dist_pits(c, r)) return w;
+    if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1 &&
+        !pg_ps_dist_sum(c, r))
+        return w;
+    if (scale == 0 && !pg_ps_dist_final(c) && ((p->pits && p->final_pits) || p->pit_stats))
+        return w;
+    w.whole = false;
+    for (int f = 0; f < 6; f++) {
+        pg_ps_owned_rows(c, r, f, &w.y0[f], &w.y1[f]);
+        if (w.y0[f] < w.y1[f]) w.y0[f] -= PG_PS_WINDOW_MARGIN, w.y1[f] += PG_PS_WINDOW_MARGIN;
+    }
+    return w;
+}
+
+/* Open the window's rows of a 6-face array of r + 2 pad texels per edge. */
+pg_status pg_ps_rows_open(const pg_ps_window *w, int r, int pad, size_t elem, pg_span *span,
+                          pg_error *err) {
+    const size_t side = (size_t)r + 2 * (size_t)pad, row = side * elem, face = side * row;
+    pg_status st = PG_OK;
+    for (int f = 0; f < 6 && !st; f++) {
+        int a = w->whole ? -pad : w->y0[f], b = w->whole ? r + pad : w->y1[f];
+        a = a < -pad ? -pad : a, b = b > r + pad ? r + pad : b;
+        if (a < b)
+            st = pg_span_open(span, (size_t)f * face + (size_t)(a + pad) * row,
+                              (size_t)(b - a) * row, err);
+    }
+    return st;
+}
+
+/* A 6-face array of level r with pad border texels around each face: malloc'd whole in
+ * one process (zeroed with zero), reserved with the window's rows opened (zeroed)
+ * when distributed. */
+pg_status pg_ps_rows_alloc(const pg_ps_ctx *c, const pg_ps_window *w, int r, int pad, size_t elem,
+                           bool zero, void **out, pg_span *span, pg_error *err) {
+    const size_t side = (size_t)r + 2 * (size_t)pad, bytes = 6 * side * side * elem;
+    *span = (pg_span){0};
+    *out = NULL;
+    if (!c->p->dist) {
+        *out = zero ? calloc(bytes, 1) : malloc(bytes);
+        return *out ? PG_OK
+                    : pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory at %d^2", r);
+    }
+    pg_status st = pg_span_reserve(span, bytes, err);
+    if (!st) st = pg_ps_rows_open(w, r, pad, elem, span, err);
+    if (st) pg_span_free(span);
+    *out = span->base;
+    return st;
+}
+
+void pg_ps_rows_free(void *p, pg_span *span) {
+    if (span->base)
+        pg_span_free(span);
+    else
+        free(p);
+}
+
+pg_status pg_ps_level_alloc(const pg_ps_ctx *c, pg_ps_level *L, int scale, int r) {
     L->r = r;
     L->st = r + 2;
     L->fsz = (size_t)(r + 2) * (r + 2);
-    L->S = malloc(6 * L->fsz * sizeof *L->S);
-    L->V = malloc(6 * L->fsz * sizeof *L->V);
-    return L->S && L->V ? PG_OK : PG_ERR_NOMEM;
+    L->win = pg_ps_level_window(c, scale, r);
+    void *S = NULL, *V = NULL;
+    pg_error e = {0};
+    pg_status st = pg_ps_rows_alloc(c, &L->win, r, 1, sizeof *L->S, false, &S, &L->sS, &e);
+    if (!st) st = pg_ps_rows_alloc(c, &L->win, r, 1, sizeof *L->V, false, &V, &L->sV, &e);
+    L->S = S, L->V = V;
+    return st;
 }
 
 void pg_ps_level_free(pg_ps_level *L) {
-    free(L->S);
-    free(L->V);
+    pg_ps_rows_free(L->S, &L->sS);
+    pg_ps_rows_free(L->V, &L->sV);
     L->S = NULL;
     L->V = NULL;
 }
@@ -85,9 +151,11 @@ pg_status pg_ps_border_build(const pg_ps_ctx *c, const pg_ps_level *L, int ts, b
     pg_status st = pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, c->T, ts, err);
     if (st) return st;
     const int r = L->r;
-    free(b->orient); /* a fresh zeroed map per level: pages far from owned tiles stay untouched */
-    if (!(b->orient = calloc(6 * L->fsz, 1)))
-        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (borders)");
+    pg_ps_rows_free(b->orient, &b->sorient); /* a fresh zeroed map per level, in its window */
+    void *o = NULL;
+    st = pg_ps_rows_alloc(c, &L->win, r, 1, 1, true, &o, &b->sorient, err);
+    b->orient = o;
+    if (st) return st;
     size_t nfar = 0, cap = (size_t)6 * 4 * (r + 1);
     b->n = b->nlocal = 0;
     for (int f = 0; f < 6; f++)

@@ -84,17 +84,20 @@ static pg_pits_opts pits_opts(const pg_ps_ctx *c, pg_pits_method m) {
 }
 
 /* Gain-pit on the owned tiles through the hook: R' = remove(R) there, Vc += R' - R. */
-static pg_status gainpit_dist(pg_ps_ctx *c, int r, const level_rows *lr, const float *R, float *Vc,
-                              const pg_pits_opts *o, pg_error *err) {
-    size_t n = (size_t)6 * r * r;
-    float *R2 = malloc(n * sizeof *R2);
-    if (!R2) return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+static pg_status gainpit_dist(pg_ps_ctx *c, const pg_ps_level *L, const level_rows *lr,
+                              const float *R, float *Vc, const pg_pits_opts *o, pg_error *err) {
+    const int r = L->r;
+    void *buf = NULL;
+    pg_span span;
+    pg_status st = pg_ps_rows_alloc(c, &L->win, r, 0, sizeof(float), false, &buf, &span, err);
+    float *R2 = buf;
+    if (st) return st;
     for (int f = 0; f < 6; f++) /* the visited rows only: the others are never touched */
         if (lr->y0[f] < lr->y1[f])
             memcpy(R2 + ((size_t)f * r + lr->y0[f]) * r, R + ((size_t)f * r + lr->y0[f]) * r,
                    (size_t)(lr->y1[f] - lr->y0[f]) * r * sizeof *R2);
     const pg_planet_synth_dist *d = c->p->dist;
-    pg_status st = d->pits(d->user, (uint32_t)r, c->T, R2, o, err);
+    st = d->pits(d->user, (uint32_t)r, c->T, R2, o, err);
     uint64_t changed = 0;
     for (int f = 0; !st && f < 6; f++)
         for (int y = lr->y0[f]; y < lr->y1[f]; y++)
@@ -105,7 +108,7 @@ static pg_status gainpit_dist(pg_ps_ctx *c, int r, const level_rows *lr, const f
                 changed++;
             }
     c->info->pit_cells_changed += changed;
-    free(R2);
+    pg_ps_rows_free(R2, &span);
     return st;
 }
 
@@ -122,15 +125,18 @@ pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
     bool gather = pits && !pg_ps_dist_pits(c, r);
     pg_status xs = gather ? pg_ps_exchange(c, scale, L, -1, err) : PG_OK;
     if (xs) return xs;
-    size_t n = (size_t)6 * r * r; /* planet-sized; distributed, only the owned rows are touched */
-    float *R = malloc(n * sizeof *R), *Vc = malloc(n * sizeof *Vc);
-    if (!R || !Vc) {
-        free(R), free(Vc);
-        return pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (pits)");
+    /* planet-sized in one process; distributed, only the level's window */
+    void *rb = NULL, *vb = NULL;
+    pg_span rs = {0}, vs = {0};
+    pg_status st = pg_ps_rows_alloc(c, &L->win, r, 0, sizeof(float), false, &rb, &rs, err);
+    if (!st) st = pg_ps_rows_alloc(c, &L->win, r, 0, sizeof(float), false, &vb, &vs, err);
+    float *R = rb, *Vc = vb;
+    if (st) {
+        pg_ps_rows_free(R, &rs), pg_ps_rows_free(Vc, &vs);
+        return st;
     }
     const level_rows lr = rows_of(c, r, c->p->dist && !gather);
     reconstruct(c, scale, L, &lr, R, Vc);
-    pg_status st = PG_OK;
     for (int f = 0; c->guide && f < 6; f++) {
         size_t a = ((size_t)f * r + lr.y0[f]) * r, b = ((size_t)f * r + lr.y1[f]) * r;
         if (a < b) pg_ps_guide_blend(c, scale, b - a, R + a, Vc + a, c->guide + a);
@@ -141,7 +147,7 @@ pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
         pg_pits_opts o = pits_opts(c, c->p->pit_method);
         pg_pits_result res;
         if (pg_ps_dist_pits(c, r)) {
-            st = gainpit_dist(c, r, &lr, R, Vc, &o, err);
+            st = gainpit_dist(c, L, &lr, R, Vc, &o, err);
         } else {
             st = pg_pits_topo_cube(&topo, (uint32_t)r, err);
             if (!st) st = pg_pits_correct_offsets(&topo, R, Vc, &o, &res, err);
@@ -150,8 +156,8 @@ pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *er
         c->info->pits_seconds += pg_synth_now() - t0;
     }
     if (!st) store_offsets(c, &lr, Vc, L);
-    free(R);
-    free(Vc);
+    pg_ps_rows_free(R, &rs);
+    pg_ps_rows_free(Vc, &vs);
     return st;
 }
 
