@@ -169,15 +169,17 @@ static void corpus_file(const char *entry, const char *dir, const char *name, ch
     fclose(in), fclose(o);
 }
 
-/* Read path in a child; returns the status and the child's peak RSS (KB), err in msg. */
-static int read_in_child(const char *path, long *peak_kb, char *msg, size_t size) {
+/* Read path in a child (through OpenImageIO, or OpenEXR's C API when core); returns
+ * the status and the child's peak RSS (KB), err in msg. */
+static int read_in_child_with(const char *path, int core, long *peak_kb, char *msg, size_t size) {
     int fd[2];
     assert_int_equal(pipe(fd), 0);
     pid_t pid = fork();
     if (pid == 0) {
         pg_image img;
         pg_error err = {0};
-        pg_status st = pg_image_read(path, 0, &img, &err);
+        pg_status st =
+            core ? pg_image_read_exr(path, NULL, &img, &err) : pg_image_read(path, 0, &img, &err);
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
         dprintf(fd[1], "%d %ld %s", (int)st, ru.ru_maxrss, err.msg);
@@ -192,6 +194,66 @@ static int read_in_child(const char *path, long *peak_kb, char *msg, size_t size
     assert_true(WIFEXITED(status));
     assert_true(n > 0 && sscanf(msg, "%d %ld", &st, peak_kb) == 2);
     return st;
+}
+
+static int read_in_child(const char *path, long *peak_kb, char *msg, size_t size) {
+    return read_in_child_with(path, 0, peak_kb, msg, size);
+}
+
+/* fuzz_image found it (corpus entry exr-huge-data-window): a 637-byte ZIP EXR whose data
+ * window says 100663328 x 16, so both readers allocated 6.4 GB before decoding its one
+ * small chunk. Now every chunk is checked against the file first: it must be there, and
+ * its packed bytes must be able to expand to the rows it claims. */
+static void test_exr_huge_data_window_refused_before_alloc(void **s) {
+    (void)s;
+    char dir[1024], exr[1200], msg[600];
+    pg_test_scratch_dir("io_exr_window", dir, sizeof dir);
+    corpus_file("exr-huge-data-window", dir, "window.exr", exr, sizeof exr);
+    for (int core = 0; core < 2; core++) {
+        long peak_kb = -1;
+        int st = read_in_child_with(exr, core, &peak_kb, msg, sizeof msg);
+        print_message("%s (%s reader: status, child's peak KB)\n", msg,
+                      core ? "OpenEXR core" : "OpenImageIO");
+        assert_int_equal(st, PG_ERR_BADINPUT);
+        assert_non_null(strstr(msg, exr));
+        /* refused by the chunk check, not by a decoder after the allocation */
+        assert_non_null(strstr(msg, "holds 51 bytes but claims 6442452992 raw"));
+        assert_null(strchr(msg, '\n'));
+        assert_true(peak_kb > 0 && peak_kb < 400 * 1024); /* the claim is 6 400 MB */
+    }
+}
+
+/* The chunk check must not refuse real files: a flat image, the best case for every
+ * compressor, in each compression oiiotool writes, reads back through both readers. */
+static void test_exr_every_compression_reads(void **s) {
+    (void)s;
+    static const char *const comps[] = {"none",  "rle", "zips", "zip",  "piz",
+                                        "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    char dir[1024], path[1200], cmd[2600];
+    pg_test_scratch_dir("io_exr_comp", dir, sizeof dir);
+    for (size_t i = 0; i < sizeof comps / sizeof comps[0]; i++) {
+        for (int half = 0; half < 2; half++) {
+            snprintf(path, sizeof path, "%s/flat-%s-%s.exr", dir, comps[i],
+                     half ? "half" : "float");
+            snprintf(cmd, sizeof cmd,
+                     "oiiotool --pattern constant:color=0.5 8192x64 1 -d %s --compression %s "
+                     "-o '%s'",
+                     half ? "half" : "float", comps[i], path);
+            assert_int_equal(system(cmd), 0);
+            pg_image img;
+            pg_error err = {0};
+            for (int core = 0; core < 2; core++) {
+                pg_status st = core ? pg_image_read_exr(path, NULL, &img, &err)
+                                    : pg_image_read(path, 0, &img, &err);
+                if (st != PG_OK) print_message("%s\n", err.msg);
+                assert_int_equal(st, PG_OK);
+                assert_int_equal(img.width, 8192);
+                assert_int_equal(img.height, 64);
+                assert_float_equal(img.data[8192 * 64 - 1] * img.unit_scale, 0.5, 1e-3);
+                pg_image_free(&img);
+            }
+        }
+    }
 }
 
 /* fuzz_image found both (corpus entries exr-huge-attribute, exr-bad-second-attribute):
@@ -255,6 +317,8 @@ int main(void) {
         cmocka_unit_test(test_pixel_limit_refused_before_alloc),
         cmocka_unit_test(test_exr_absurd_attribute_refused_before_alloc),
         cmocka_unit_test(test_jpeg_iptc_overrun_refused),
+        cmocka_unit_test(test_exr_huge_data_window_refused_before_alloc),
+        cmocka_unit_test(test_exr_every_compression_reads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -204,8 +204,62 @@ pg_status pg_image_write_exr(const char *path, const pg_image *img, const char *
     return pg_exr_write_parts(path, 1, NULL, img, channel_names, err);
 }
 
+/* The most raw bytes one packed byte can stand for, per compression. Deflate (ZIP,
+ * ZIPS) never exceeds 1032:1; RLE's runs give at most 64:1; PXR24 zips 24-bit floats
+ * (1032 x 4/3); B44 turns 32 bytes into at least 3. PIZ's Huffman runs stay under
+ * about 500:1; DWA zips one DC value per 8x8 block, so a flat image can reach about
+ * 128 x 1032. Each bound is padded, so no real file is refused. */
+static uint64_t exr_max_ratio(exr_compression_t c) {
+    switch (c) {
+    case EXR_COMPRESSION_NONE:
+        return 1;
+    case EXR_COMPRESSION_RLE:
+        return 128;
+    case EXR_COMPRESSION_ZIPS:
+    case EXR_COMPRESSION_ZIP:
+        return 1100;
+    case EXR_COMPRESSION_PXR24:
+        return 1500;
+    case EXR_COMPRESSION_B44:
+    case EXR_COMPRESSION_B44A:
+        return 16;
+    case EXR_COMPRESSION_PIZ:
+        return 1024;
+    default:
+        return UINT64_C(1) << 18; /* DWAA, DWAB */
+    }
+}
+
+/* Before the image is allocated, every chunk of the part must be in the file and
+ * able to hold the rows it claims: a 637-byte file whose data window said 100663328
+ * x 16 asked for 6.4 GB (found by fuzz_image). exr_read_scanline_chunk_info checks a
+ * chunk's offset and packed size against the file; the ratio bound above checks that
+ * so few bytes can decompress to that many rows. */
+static pg_status check_chunks(exr_context_t ctxt, int part, const exr_attr_box2i_t *dw,
+                              const char *path, const exr_msg *m, pg_error *err) {
+    exr_storage_t storage;
+    int32_t lines = 0;
+    exr_result_t rv = exr_get_storage(ctxt, part, &storage);
+    if (rv == EXR_ERR_SUCCESS && storage != EXR_STORAGE_SCANLINE)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "%s: tiled or deep EXR; planetgen reads scanline EXR only", path);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
+    if (rv == EXR_ERR_SUCCESS && lines <= 0) rv = EXR_ERR_BAD_CHUNK_LEADER;
+    for (int64_t y = dw->min.y; rv == EXR_ERR_SUCCESS && y <= dw->max.y; y += lines) {
+        exr_chunk_info_t ci;
+        if ((rv = exr_read_scanline_chunk_info(ctxt, part, (int)y, &ci)) != EXR_ERR_SUCCESS) break;
+        if (ci.unpacked_size > exr_max_ratio(ci.compression) * ci.packed_size + 4096)
+            return pg_error_set(err, PG_ERR_BADINPUT,
+                                "%s: chunk at row %lld holds %llu bytes but claims %llu raw; "
+                                "the file is truncated or corrupt",
+                                path, (long long)y, (unsigned long long)ci.packed_size,
+                                (unsigned long long)ci.unpacked_size);
+    }
+    return rv == EXR_ERR_SUCCESS ? PG_OK : exr_fail(err, PG_ERR_BADINPUT, path, m, rv);
+}
+
 static exr_result_t read_pixels(exr_context_t ctxt, int part, pg_image *img,
-                                const exr_attr_chlist_t *cl) {
+                                const exr_attr_chlist_t *cl, int y0) {
     int32_t lines;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
     exr_decode_pipeline_t dec;
@@ -214,7 +268,7 @@ static exr_result_t read_pixels(exr_context_t ctxt, int part, pg_image *img,
     int32_t stride = (int32_t)sizeof(float) * img->channels;
     for (int y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lines) {
         exr_chunk_info_t ci;
-        rv = exr_read_scanline_chunk_info(ctxt, part, y + 0, &ci);
+        rv = exr_read_scanline_chunk_info(ctxt, part, y0 + y, &ci);
         if (rv != EXR_ERR_SUCCESS) break;
         rv = inited ? exr_decoding_update(ctxt, part, &ci, &dec)
                     : exr_decoding_initialize(ctxt, part, &ci, &dec);
@@ -267,12 +321,14 @@ pg_status pg_image_read_exr(const char *path, const char *part_name, pg_image *o
                (rv = exr_get_channels(ctxt, part, &cl)) != EXR_ERR_SUCCESS) {
         st = exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
     } else {
-        int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-        if (w <= 0 || h <= 0 || (uint64_t)w * (uint64_t)h > PG_IMAGE_DEFAULT_MAX_PIXELS)
-            st = pg_error_set(err, PG_ERR_BADINPUT, "%s: absurd data window %dx%d", path, w, h);
-        else
-            st = pg_image_alloc(out, w, h, cl->num_channels, err);
-        if (st == PG_OK && (rv = read_pixels(ctxt, part, out, cl)) != EXR_ERR_SUCCESS) {
+        int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
+        if (w <= 0 || h <= 0 || w > INT32_MAX || h > INT32_MAX ||
+            (uint64_t)w * (uint64_t)h > PG_IMAGE_DEFAULT_MAX_PIXELS)
+            st = pg_error_set(err, PG_ERR_BADINPUT, "%s: absurd data window %lldx%lld", path,
+                              (long long)w, (long long)h);
+        else if ((st = check_chunks(ctxt, part, &dw, path, &m, err)) == PG_OK)
+            st = pg_image_alloc(out, (int)w, (int)h, cl->num_channels, err);
+        if (st == PG_OK && (rv = read_pixels(ctxt, part, out, cl, dw.min.y)) != EXR_ERR_SUCCESS) {
             st = exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
             pg_image_free(out);
         }
@@ -300,7 +356,18 @@ pg_status pg_image_exr_check(const char *path, pg_error *err) {
     exr_context_t ctxt = NULL;
     exr_result_t rv = exr_open_read(path, &ctxt, &m);
     if (rv != EXR_ERR_SUCCESS) return exr_fail(err, PG_ERR_BADINPUT, path, &m, rv);
+    /* OpenImageIO reads the first part; a scanline one gets the chunk check too (the
+     * C++ reader also allocates the whole data window before decoding). */
+    exr_storage_t storage;
+    exr_attr_box2i_t dw;
+    pg_status st = PG_OK;
+    int count = 0;
+    if (exr_get_count(ctxt, &count) == EXR_ERR_SUCCESS && count > 0 &&
+        exr_get_storage(ctxt, 0, &storage) == EXR_ERR_SUCCESS && storage == EXR_STORAGE_SCANLINE &&
+        exr_get_data_window(ctxt, 0, &dw) == EXR_ERR_SUCCESS)
+        st = check_chunks(ctxt, 0, &dw, path, &m, err);
     exr_finish(&ctxt);
+    if (st != PG_OK) return st;
     /* The parser skips a bad optional attribute, reports it and succeeds (a 1.7 GB
      * 'Software' string after a valid one did that): any report means corrupt. */
     return m.text[0] ? pg_error_set(err, PG_ERR_BADINPUT, "%s: OpenEXR error: %s", path, m.text)
