@@ -183,21 +183,23 @@ pg_status pg_cube_from_equirect_rows(pg_cube_projection p, int64_t n, const pg_e
  * to a cube vertex one tap can lie past both edges, where no texel exists (three
  * faces meet); that tap is extrapolated from the other three (a + b - c, exact for
  * a plane), which keeps the interpolation second-order there. */
-static void cube_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUBE_NFACES], int ch,
-                          const double dir[3], float *out) {
+static void face_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUBE_NFACES], int ch,
+                          int face, double fx, double fy, float *out) {
     const int64_t nn = g->n * g->n;
-    int face;
-    double u, v;
-    pg_cube_from_dir(g->proj, dir, &face, &u, &v);
-    double fx = (u + 1) / 2 * (double)g->n - 0.5, fy = (v + 1) / 2 * (double)g->n - 0.5;
     double x0 = floor(fx), y0 = floor(fy), tx = fx - x0, ty = fy - y0;
     const float *tap[4];
     int past = -1;
-    for (int k = 0; k < 4; k++) {
-        int64_t x = (int64_t)x0 + (k & 1), y = (int64_t)y0 + (k >> 1);
-        if ((x < 0 || x >= g->n) && (y < 0 || y >= g->n)) past = k;
-        int64_t id = pg_cube_wrap(g, face, x, y, NULL);
-        tap[k] = faces[id / nn] + (size_t)(id % nn) * ch;
+    const int64_t ix = (int64_t)x0, iy = (int64_t)y0;
+    if (ix >= 0 && iy >= 0 && ix + 1 < g->n && iy + 1 < g->n) { /* inside the face */
+        const float *t0 = faces[face] + (size_t)(iy * g->n + ix) * ch;
+        tap[0] = t0, tap[1] = t0 + ch, tap[2] = t0 + (size_t)g->n * ch, tap[3] = tap[2] + ch;
+    } else {
+        for (int k = 0; k < 4; k++) {
+            int64_t x = ix + (k & 1), y = iy + (k >> 1);
+            if ((x < 0 || x >= g->n) && (y < 0 || y >= g->n)) past = k;
+            int64_t id = pg_cube_wrap(g, face, x, y, NULL);
+            tap[k] = faces[id / nn] + (size_t)(id % nn) * ch;
+        }
     }
     for (int c = 0; c < ch; c++) {
         double t[4];
@@ -207,6 +209,15 @@ static void cube_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUB
         double a = t[0] + tx * (t[1] - t[0]), b = t[2] + tx * (t[3] - t[2]);
         out[c] = (float)(a + ty * (b - a));
     }
+}
+
+static void cube_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUBE_NFACES], int ch,
+                          const double dir[3], float *out) {
+    int face;
+    double u, v;
+    pg_cube_from_dir(g->proj, dir, &face, &u, &v);
+    double fx = (u + 1) / 2 * (double)g->n - 0.5, fy = (v + 1) / 2 * (double)g->n - 0.5;
+    face_sample_g(g, faces, ch, face, fx, fy, out);
 }
 
 /* The faces of a contiguous cube buffer. */
@@ -220,6 +231,13 @@ void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const
     const float *faces[PG_CUBE_NFACES];
     split_faces(cube, g->n, ch, faces);
     cube_sample_g(g, faces, ch, dir, out);
+}
+
+void pg_cube_sample_face(const pg_cube_grid *g, const float *cube, int ch, int face, double fx,
+                         double fy, float *out) {
+    const float *faces[PG_CUBE_NFACES];
+    split_faces(cube, g->n, ch, faces);
+    face_sample_g(g, faces, ch, face, fx, fy, out);
 }
 
 void pg_cube_sample_grid_init(pg_cube_grid *g, pg_cube_projection p, int64_t n) {

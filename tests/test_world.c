@@ -7,12 +7,16 @@
  *    (land fraction within 0.03 of --land-fraction), no copy of Earth (earth_copy_fraction
  *    <= 0.05), ice at the poles and not at the equator, no depression, and a
  *    mountain_belt_fraction from world.exr;
+ *  - the guide and type mask sampled on the cube (pg_planet_world_level) against the
+ *    world's own texels, directional samples and block means;
  *  - guidance through the library: a two-zone macro world (one hemisphere cold, the other
  *    hot) gets at least 90% of its material from exemplar texels of the matching zone of
- *    Earth's own climate (the same climate model on Earth's relief). */
+ *    Earth's own climate (the same climate model on Earth's relief), with the world
+ *    sampled on the cube and with equirectangular maps. */
 #include "pg_test.h"
 
 #include "planetgen/pg_climate.h"
+#include "planetgen/pg_cube.h"
 #include "planetgen/pg_planet_synth.h"
 
 #include <math.h>
@@ -146,19 +150,85 @@ static void two_zones(float *elev, float *temp, float *prec) {
     }
 }
 
-static void test_two_zone_guidance(void **state) {
+/* The cube-native guide and mask (pg_planet_world_level) against the world itself: at
+ * the world's own size each texel is its world texel exactly; finer, each is the
+ * bilinear sample at the texel's direction (pg_cube_sample); coarser, the mean of the
+ * world texels it covers. */
+static void test_world_level_sampling(void **state) {
     (void)state;
+    const int64_t n = 16;
+    size_t nw = (size_t)6 * n * n;
+    float *elev = malloc(nw * sizeof(float)), *temp = malloc(nw * sizeof(float)),
+          *prec = malloc(nw * sizeof(float));
+    assert_true(elev && temp && prec);
+    for (size_t i = 0; i < nw; i++) { /* a field with every kind of texel */
+        elev[i] = (float)((int)(i * 7919 % 9000) - 4000);
+        temp[i] = (float)((int)(i * 104729 % 70) - 40);
+        prec[i] = (float)(i * 31 % 2500);
+    }
+    pg_planet_world w = {n, elev, temp, prec};
+    pg_error e = {0};
+    const int64_t rs[3] = {n, 4 * n, n / 2};
+    for (int k = 0; k < 3; k++) {
+        const int64_t r = rs[k];
+        float *g = malloc((size_t)6 * r * r * sizeof *g);
+        uint8_t *m = malloc((size_t)6 * r * r);
+        assert_true(g && m);
+        /* in two calls, as distributed ranks ask for their rows */
+        assert_int_equal(pg_planet_world_level(&w, r, 0, 3 * r + 1, g, m, &e), PG_OK);
+        assert_int_equal(
+            pg_planet_world_level(&w, r, 3 * r + 1, 6 * r, g + (3 * r + 1) * r, NULL, &e), PG_OK);
+        uint8_t *m2 = malloc((size_t)6 * r * r);
+        assert_non_null(m2);
+        assert_int_equal(pg_planet_world_level(&w, r, 0, 6 * r, NULL, m2, &e), PG_OK);
+        assert_memory_equal(m, m2, (size_t)(3 * r + 1) * r);
+        pg_cube_grid grid;
+        assert_int_equal(pg_cube_grid_init(&grid, PG_CUBE_DEFAULT_PROJECTION, 1, (int)r, &e),
+                         PG_OK);
+        for (int64_t id = 0; id < 6 * r * r; id++) {
+            const int f = (int)(id / (r * r)), y = (int)(id / r % r), x = (int)(id % r);
+            if (r == n) {
+                assert_float_equal(g[id], elev[id], 0);
+                assert_int_equal(m2[id], pg_planet_world_mask_at(&w, (size_t)id));
+            } else if (r > n) {
+                double d[3];
+                float want;
+                pg_cube_texel_dir(&grid, id, d);
+                pg_cube_sample(PG_CUBE_DEFAULT_PROJECTION, n, elev, 1, d, &want);
+                assert_float_equal(g[id], want, 1e-3);
+            } else {
+                double sum = 0;
+                for (int j = 0; j < 2; j++)
+                    for (int i = 0; i < 2; i++)
+                        sum += elev[((size_t)f * n + 2 * y + j) * n + 2 * x + i];
+                assert_float_equal(g[id], sum / 4, 1e-3);
+            }
+        }
+        free(g), free(m), free(m2);
+    }
+    /* rows outside the level are refused */
+    float g1[16];
+    assert_int_equal(pg_planet_world_level(&w, 2, 0, 13, g1, NULL, &e), PG_ERR_BADINPUT);
+    free(elev), free(temp), free(prec);
+}
+
+/* equirect: the guide and the type map as equirectangular maps given by the caller
+ * (pg_planet_world_guide, pg_planet_world_types); otherwise the synthesis samples the
+ * world on the cube itself, as `generate` does. */
+static void two_zone_guidance(bool equirect) {
     size_t nw = (size_t)6 * WN * WN;
     float *elev = malloc(nw * sizeof(float)), *temp = malloc(nw * sizeof(float)),
           *prec = malloc(nw * sizeof(float));
     assert_true(elev && temp && prec);
     two_zones(elev, temp, prec);
     pg_planet_world w = {WN, elev, temp, prec};
-    pg_guide guide;
-    pg_types_map types;
+    pg_guide guide = {0};
+    pg_types_map types = {0};
     pg_error e = {0};
-    assert_int_equal(pg_planet_world_guide(&w, 512, &guide, &e), PG_OK);
-    assert_int_equal(pg_planet_world_types(&w, 512, &types, &e), PG_OK);
+    if (equirect) {
+        assert_int_equal(pg_planet_world_guide(&w, 512, &guide, &e), PG_OK);
+        assert_int_equal(pg_planet_world_types(&w, 512, &types, &e), PG_OK);
+    }
     pg_planet_synth_params p;
     pg_planet_synth_params_default(&p);
     p.tiles = 1;
@@ -166,8 +236,8 @@ static void test_two_zone_guidance(void **state) {
     p.synth.seed = 5;
     p.layout = PG_LAYOUT_WORLD;
     p.world = &w;
-    p.guide = &guide;
-    p.types = &types;
+    p.guide = equirect ? &guide : NULL;
+    p.types = equirect ? &types : NULL;
     p.pit_stats = false;
     pg_planet out;
     uint32_t *coords;
@@ -190,7 +260,8 @@ static void test_two_zone_guidance(void **state) {
         match[cold] += cold ? t < 0.0f : t > 10.0f;
     }
     double fc = (double)match[1] / total[1], fh = (double)match[0] / total[0];
-    print_message("material from the matching zone: cold %.3f, hot %.3f\n", fc, fh);
+    print_message("material from the matching zone (%s): cold %.3f, hot %.3f\n",
+                  equirect ? "equirectangular maps" : "sampled on the cube", fc, fh);
     assert_true(fc >= 0.9);
     assert_true(fh >= 0.9);
     (void)E;
@@ -202,11 +273,23 @@ static void test_two_zone_guidance(void **state) {
     free(elev), free(temp), free(prec);
 }
 
+static void test_two_zone_guidance(void **state) {
+    (void)state;
+    two_zone_guidance(false);
+}
+
+static void test_two_zone_guidance_equirect(void **state) {
+    (void)state;
+    two_zone_guidance(true);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_options),
         cmocka_unit_test(test_small_world),
+        cmocka_unit_test(test_world_level_sampling),
         cmocka_unit_test_setup_teardown(test_two_zone_guidance, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_two_zone_guidance_equirect, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -235,6 +235,12 @@ void pg_cube_sample(pg_cube_projection p, int64_t n, const float *cube, int ch, 
  * call, which costs more than the sample in a loop over millions of directions. */
 void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const double dir[3],
                          float *out);
+/* The same bilinear sample at a point given on a face of g's grid: fx, fy in texels
+ * (texel x's centre is fx = x); taps past an edge come from across the seam. A field on
+ * the same projection as the caller's own grid is sampled this way without a
+ * direction: a texel of another face size maps to it linearly. */
+void pg_cube_sample_face(const pg_cube_grid *g, const float *cube, int ch, int face, double fx,
+                         double fy, float *out);
 /* A grid for pg_cube_sample_grid over a field of any n texels per face edge (one tile a
  * face; n need not be a power of two, as pg_cube_grid_init asks). */
 void pg_cube_sample_grid_init(pg_cube_grid *g, pg_cube_projection p, int64_t n);

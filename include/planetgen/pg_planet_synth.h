@@ -54,7 +54,8 @@ typedef enum pg_planet_layout { PG_LAYOUT_EARTH, PG_LAYOUT_FREE, PG_LAYOUT_WORLD
  * of 6*n*n floats in the default projection, caller-owned. The coarsest level starts
  * from exemplar texels whose features (height, temperature, precipitation) match the
  * world's (texture-by-numbers, Hertzmann et al. 2001), the elevation is the guide and the
- * climate the type constraints (pg_planet_world_guide, pg_planet_world_types). */
+ * climate the type constraints, sampled on the cube at each level (pg_planet_world_level)
+ * unless the params give a guide or a type map of their own. */
 typedef struct pg_planet_world {
     int64_t n;
     const float *elevation_m;      /* relative to sea level */
@@ -69,6 +70,16 @@ pg_status pg_planet_world_guide(const pg_planet_world *w, int width, pg_guide *o
  * it is warm, no desert where it is wet, no forest or grass where it is ice. */
 pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_map *out,
                                 pg_error *err);
+
+/* The guide and the type constraints of layout world as the synthesis uses them: the
+ * elevation (guide, metres) and the climate rule's allowed types (mask, as a type map's
+ * pixel) at the texels of a level of r texels a face edge, for the global rows [row0,
+ * row1) (row f r + y is face f's row y), sampled on the cube itself with no
+ * equirectangular step. Either output may be NULL; each holds (row1 - row0) r values. */
+pg_status pg_planet_world_level(const pg_planet_world *w, int64_t r, int64_t row0, int64_t row1,
+                                float *guide, uint8_t *mask, pg_error *err);
+/* The climate rule's allowed types at the world's own texel i. */
+uint8_t pg_planet_world_mask_at(const pg_planet_world *w, size_t i);
 
 /* The exemplar's own macro climate, the features layout world matches against: its
  * heights averaged to n texels a face edge (n divides the face size; relative to its sea
@@ -156,7 +167,8 @@ typedef struct pg_planet_synth_params {
     /* distribution (docs/mpi.md): NULL, this process synthesizes every tile */
     const pg_planet_synth_dist *dist;
 
-    /* layout world: the macro world (required there, NULL otherwise) */
+    /* layout world: the macro world (required there, NULL otherwise); with guide or types
+     * NULL, the guide or the type constraints come from it */
     const pg_planet_world *world;
 } pg_planet_synth_params;
 

@@ -92,9 +92,7 @@ static void free_inputs(gen_inputs *in) {
 static void set_world(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
     p->layout = PG_LAYOUT_WORLD;
     if (a->guide_weight < 0) p->guide_alpha = GEN_WORLD_GUIDE_WEIGHT;
-    p->world = &in->world.world;
-    if (!p->guide) p->guide = &in->world.guide;
-    if (!p->types) p->types = &in->world.types;
+    p->world = &in->world.world; /* the guide and the types unless given (--guide, --types) */
 }
 
 static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {

@@ -58,13 +58,11 @@ const char *gen_path_for(const char *name, void *user);
 
 /* ---- cmd_generate_world.c ---- */
 
-/* Layout world's macro world and the controls made from it. */
+/* Layout world's macro world. */
 typedef struct gen_world {
     pg_plates_world plates;
     pg_climate climate;
     pg_planet_world world; /* views into plates and climate */
-    pg_guide guide;
-    pg_types_map types;
     pg_plates_stats stats; /* of the plates' world */
 } gen_world;
 

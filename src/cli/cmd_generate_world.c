@@ -1,8 +1,8 @@
 /* cmd_generate_world.c - `planetgen generate --layout world`: the macro world that the
  * synthesis amplifies by example (docs/generate.md, "Layout world"). Plates (pg_plates.h,
  * after Cortial et al. 2019) give the elevation, the climate model (pg_climate.h) its
- * temperature and precipitation; the planet module turns them into the guide and the type
- * map (pg_planet_world_guide, pg_planet_world_types). The macro fields are written into
+ * temperature and precipitation; the synthesis samples them as its guide and type
+ * constraints at every level (pg_planet_world_level). The macro fields are written into
  * the planet directory: plates.png, climate.png and world.exr (one part per cube face,
  * channels elevation_m, temperature_c, precipitation_mm, convergent_km). */
 #include "cmd_generate.h"
@@ -14,8 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define GEN_WORLD_N 64           /* macro texels per face edge (about 140 km) */
-#define GEN_WORLD_MAP_WIDTH 1024 /* the guide and type map, equirectangular */
+#define GEN_WORLD_N 64 /* macro texels per face edge (about 140 km) */
 #define GEN_WORLD_PREVIEW_WIDTH 1024
 #define GEN_WORLD_QUANTILES 1001 /* the exemplar's hypsometry, per mille */
 
@@ -28,8 +27,6 @@ void gen_world_init(gen_world *w) {
 void gen_world_free(gen_world *w) {
     pg_plates_world_free(&w->plates);
     pg_climate_free(&w->climate);
-    pg_guide_free(&w->guide);
-    pg_types_map_free(&w->types);
 }
 
 /* An ice sheet's rank offset: land whose first-guess climate is an ice climate stands
@@ -94,8 +91,6 @@ pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_wo
                                 &w->climate, err);
     w->world = (pg_planet_world){w->plates.n, w->plates.elevation_m, w->climate.temperature_c,
                                  w->climate.precipitation_mm};
-    if (!st) st = pg_planet_world_guide(&w->world, GEN_WORLD_MAP_WIDTH, &w->guide, err);
-    if (!st) st = pg_planet_world_types(&w->world, GEN_WORLD_MAP_WIDTH, &w->types, err);
     return st;
 }
 

@@ -76,8 +76,9 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
     const pg_ps_window none = {.whole = false};
     void *mask = NULL, *guide = NULL;
     pg_status st = PG_OK;
-    if (p->types) st = pg_ps_rows_alloc(c, &none, (int)c->N, 0, 1, false, &mask, &c->smask, err);
-    if (!st && p->guide)
+    if (p->types || pg_ps_world_types(p))
+        st = pg_ps_rows_alloc(c, &none, (int)c->N, 0, 1, false, &mask, &c->smask, err);
+    if (!st && (p->guide || pg_ps_world_guide(p)))
         st =
             pg_ps_rows_alloc(c, &none, (int)c->N, 0, sizeof(float), false, &guide, &c->sguide, err);
     c->mask = mask, c->guide = guide;

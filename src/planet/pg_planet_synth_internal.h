@@ -155,6 +155,15 @@ void pg_ps_land_agreement(pg_ps_ctx *c, int scale, const pg_ps_level *L);
 
 /* --------------------------- pg_planet_synth_types.c --------------------------- */
 
+/* Layout world without a caller's guide or type map: both come from the macro world,
+ * sampled on the cube at each level (pg_planet_world_level). */
+static inline bool pg_ps_world_guide(const pg_planet_synth_params *p) {
+    return !p->guide && p->layout == PG_LAYOUT_WORLD && p->world;
+}
+static inline bool pg_ps_world_types(const pg_planet_synth_params *p) {
+    return !p->types && p->layout == PG_LAYOUT_WORLD && p->world;
+}
+
 pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err);
 pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err);
 void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v);

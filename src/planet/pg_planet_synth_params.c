@@ -76,7 +76,8 @@ int pg_planet_synth_face_size(int tiles, int tile_size) {
 double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p) {
     double n = (double)tiles * tile_size, px = 6.0 * n * n;
     double border = 6.0 * 4.0 * (n + 2) * 2 * 16;
-    double synth = 8 * 1.25 + 1 + (p && p->types ? 1 : 0) + (p && p->guide ? 4 : 0) +
+    double synth = 8 * 1.25 + 1 + (p && (p->types || pg_ps_world_types(p)) ? 1 : 0) +
+                   (p && (p->guide || pg_ps_world_guide(p)) ? 4 : 0) +
                    (p && p->pits ? 0.25 * 18 : 0);
     double deliver = 16 + 8 + (p && p->pits ? 12 : 0);
     return px * (synth > deliver ? synth : deliver) + border;

@@ -15,7 +15,7 @@
 #include <string.h>
 
 pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
-    c->use_types = c->p->types || c->p->type_mask != PG_TYPES_ALL;
+    c->use_types = c->p->types || pg_ps_world_types(c->p) || c->p->type_mask != PG_TYPES_ALL;
     if (!c->use_types) return PG_OK;
     const pg_synth_exemplar *ex = c->ex;
     c->etype = pg_types_exemplar(ex);
@@ -41,6 +41,15 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
     if (!(c->p->type_mask & masks))
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "--preset: no exemplar texel has an allowed type");
+    const pg_planet_world *w = pg_ps_world_types(c->p) ? c->p->world : NULL;
+    for (size_t i = 0; w && i < (size_t)6 * w->n * w->n; i++) {
+        uint8_t m = pg_planet_world_mask_at(w, i);
+        if (!(m & masks))
+            return pg_error_set(err, PG_ERR_BADINPUT,
+                                "layout world: the exemplar has none of the types its climate "
+                                "allows (type mask 0x%02x)",
+                                m);
+    }
     if (c->p->types) {
         const pg_types_map *m = c->p->types;
         for (size_t i = 0; i < (size_t)m->width * m->height; i++)
@@ -63,7 +72,22 @@ static double sphere_lat(const double d[3]) {
 }
 
 /* Nearest-pixel type mask of every texel of a level (type colours are discrete). */
+/* Layout world's mask, and its guide with it when both come from the world (one pass
+ * over the level; pg_ps_guide_level then has nothing left to do). */
 pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
+    if (pg_ps_world_types(c->p)) {
+        pg_status st = PG_OK;
+        for (int f = 0; f < 6 && !st; f++) { /* distributed: the rows of the owned tiles */
+            int y0, y1;
+            pg_ps_owned_rows(c, r, f, &y0, &y1);
+            if (y0 < y1)
+                st = pg_planet_world_level(
+                    c->p->world, r, (int64_t)f * r + y0, (int64_t)f * r + y1,
+                    pg_ps_world_guide(c->p) ? c->guide + ((size_t)f * r + y0) * r : NULL,
+                    c->mask + ((size_t)f * r + y0) * r, err);
+        }
+        return st;
+    }
     if (!c->p->types) return PG_OK;
     const pg_types_map *m = c->p->types;
     pg_cube_grid g;

@@ -1,8 +1,10 @@
 /* pg_planet_world.c - the macro world of layout world (pg_plates.h, pg_climate.h) as the
- * synthesis' existing controls: its elevation as the equirectangular guide of Scott &
- * Dodgson 2021 (soft constraint, pg_guide.c) and its climate as a type map of Gain,
- * Merry & Marais 2015 (hard constraint, pg_types.c), so that ice stays where the climate
- * is cold and desert where it is dry (docs/generate.md, "Layout world").
+ * synthesis' controls: its elevation as the guide of Scott & Dodgson 2021 (soft
+ * constraint, pg_guide.c) and its climate as the type constraints of Gain, Merry & Marais
+ * 2015 (hard constraint, pg_types.c), so that ice stays where the climate is cold and
+ * desert where it is dry (docs/generate.md, "Layout world"). The synthesis samples them
+ * on the cube at each level (pg_planet_world_level); pg_planet_world_guide and
+ * pg_planet_world_types make the same controls as equirectangular maps.
  *
  * THE CLIMATE RULE per pixel (T annual mean, P annual rain, from pg_climate.h):
  *   T >= PG_CLIMATE_ICE_C + 8  no ice (a warm climate never shows an ice sheet)
@@ -69,6 +71,63 @@ static uint8_t climate_mask(float h, float t, float p) {
     if (h < -WORLD_COAST_M) m &= (uint8_t)(bit_ocean | bit_ice);
     if (h > WORLD_COAST_M) m &= (uint8_t)~bit_ocean;
     return m ? m : PG_TYPES_ALL;
+}
+
+/* Row (face f, y) of level r: the fields at each texel, bilinear on the world's own cube
+ * grid (the same projection, so a level texel's centre is a linear map of the world's
+ * texel coordinates), averaged over k x k points of the texel when the level is coarser
+ * than the world. hpt is the world interleaved (elevation, temperature, rain). */
+static void level_row(const pg_cube_grid *g, const float *hpt, int64_t r, int f, int64_t y,
+                      float *guide, uint8_t *mask) {
+    const int64_t n = g->n;
+    const int k = r >= n ? 1 : (int)((n + r - 1) / r);
+    const double scale = (double)n / (double)r;
+    for (int64_t x = 0; x < r; x++) {
+        double acc[3] = {0, 0, 0};
+        for (int sy = 0; sy < k; sy++)
+            for (int sx = 0; sx < k; sx++) {
+                float v[3];
+                double fx = ((double)x + (sx + 0.5) / k) * scale - 0.5,
+                       fy = ((double)y + (sy + 0.5) / k) * scale - 0.5;
+                pg_cube_sample_face(g, hpt, 3, f, fx, fy, v);
+                acc[0] += v[0], acc[1] += v[1], acc[2] += v[2];
+            }
+        const double kk = (double)k * k;
+        const float h = (float)(acc[0] / kk);
+        if (guide) guide[x] = h;
+        if (mask) mask[x] = climate_mask(h, (float)(acc[1] / kk), (float)(acc[2] / kk));
+    }
+}
+
+pg_status pg_planet_world_level(const pg_planet_world *w, int64_t r, int64_t row0, int64_t row1,
+                                float *guide, uint8_t *mask, pg_error *err) {
+    pg_status st = check_world(w, 4, err);
+    if (st) return st;
+    if (r < 1 || row0 < 0 || row1 > 6 * r || row0 > row1)
+        return pg_error_set(err, PG_ERR_BADINPUT, "layout world: bad level rows");
+    const int64_t n = w->n;
+    const size_t nw = (size_t)6 * n * n;
+    float *hpt = malloc(nw * 3 * sizeof *hpt);
+    if (!hpt) return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    for (size_t i = 0; i < nw; i++) {
+        hpt[3 * i] = w->elevation_m[i];
+        hpt[3 * i + 1] = w->temperature_c[i];
+        hpt[3 * i + 2] = w->precipitation_mm[i];
+    }
+    pg_cube_grid g;
+    pg_cube_sample_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, n);
+#pragma omp parallel for schedule(static)
+    for (int64_t row = row0; row < row1; row++) {
+        size_t o = (size_t)(row - row0) * (size_t)r;
+        level_row(&g, hpt, r, (int)(row / r), row % r, guide ? guide + o : NULL,
+                  mask ? mask + o : NULL);
+    }
+    free(hpt);
+    return PG_OK;
+}
+
+uint8_t pg_planet_world_mask_at(const pg_planet_world *w, size_t i) {
+    return climate_mask(w->elevation_m[i], w->temperature_c[i], w->precipitation_mm[i]);
 }
 
 pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_map *out,
