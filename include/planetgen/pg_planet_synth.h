@@ -177,8 +177,12 @@ void pg_planet_synth_params_default(pg_planet_synth_params *p);
 typedef struct pg_planet_synth_info {
     int s_top, nlevels;
     double level_seconds[PG_SYNTH_MAX_LEVELS + 8];
-    double synth_seconds, pits_seconds, render_seconds, final_pits_seconds;
-    double pit_stats_seconds;    /* counting depressions before and after (pit_stats) */
+    double synth_seconds, pits_seconds, render_seconds;
+    /* the final pass; in one process with pit_stats, the depression counts are taken by
+     * its own floods (pg_pits_remove_counted) and their time is in here */
+    double final_pits_seconds;
+    double pit_stats_seconds;    /* counting apart from the final pass (pit_stats): the
+                                    closed-land share, and distributed, the counts */
     uint64_t pit_cells_changed;  /* summed over the Gain-pit passes */
     pg_pits_stats before, after; /* depressions before/after the final pass (pit_stats) */
     double land_agreement;       /* layout earth: land/ocean match with the exemplar at
