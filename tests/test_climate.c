@@ -625,6 +625,11 @@ static void test_offset_and_tilt(void **state) {
     assert_true(fabs(pg_climate_annual_insolation(90.0, 45.0, 1361.0) -
                      1361.0 / M_PI * sin(M_PI / 4)) < 0.5);
     assert_true(fabs(pg_climate_annual_insolation(0.0, 0.0, 1361.0) - 1361.0 / M_PI) < 1e-6);
+    /* the table computes the declinations once and gives the same values as single calls */
+    double table[181];
+    pg_climate_annual_insolation_table(-90.0, 1.0, 181, 23.4, 1361.0, table);
+    for (int i = 0; i < 181; i++)
+        assert_true(table[i] == pg_climate_annual_insolation(-90.0 + 1.0 * i, 23.4, 1361.0));
     pg_climate_free(&a);
     pg_climate_free(&b);
     free(elev);

@@ -88,6 +88,10 @@ pg_status pg_climate_compute(const pg_climate_params *p, pg_cube_projection proj
 /* Annual-mean daily insolation (W/m^2) at a latitude for an axial tilt, circular
  * orbit (Berger 1978, averaged over the year in true longitude). */
 double pg_climate_annual_insolation(double lat_deg, double tilt_deg, double solar_constant_wm2);
+/* The same at count latitudes lat0 + i step (degrees) into out, with the declination's
+ * terms computed once: the same values as count calls. */
+void pg_climate_annual_insolation_table(double lat0_deg, double step_deg, int count,
+                                        double tilt_deg, double solar_constant_wm2, double *out);
 
 /* Ice: annual mean temperature below PG_CLIMATE_ICE_C. Earth: Antarctica,
  * Greenland's interior and the perennial Arctic sea ice lie below -10 deg C; the

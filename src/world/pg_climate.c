@@ -179,10 +179,8 @@ pg_status pg_climate_compute(const pg_climate_params *p, pg_cube_projection proj
         pg_climate_free(c);
         return pg_error_set(err, PG_ERR_NOMEM, "climate: out of memory for n = %lld", (long long)n);
     }
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < PG_INSOL_TABLE; i++)
-        insol[i] =
-            pg_climate_annual_insolation(-90.0 + 0.1 * i, p->axial_tilt_deg, p->solar_constant_wm2);
+    pg_climate_annual_insolation_table(-90.0, 0.1, PG_INSOL_TABLE, p->axial_tilt_deg,
+                                       p->solar_constant_wm2, insol);
     for (int64_t id = 0; id < total; id++)
         mask[id] = elevation_m[id] > 0.0f ? 1.0f : 0.0f;
 #pragma omp parallel for schedule(dynamic, 256)
