@@ -3,6 +3,7 @@
 // vector, so no temporary file is needed. Floats are quantised here (clamp to 0..1,
 // round to nearest) so every encoder sees the same integers.
 #include "pg_export_encode.h"
+#include "planetgen/pg_image.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -67,7 +68,10 @@ extern "C" pg_status pg_export_encode(const float *data, int width, int height, 
         auto img = ImageOutput::create(name);
         if (!img) return encode_fail(err, what, fmt, OIIO::geterror());
         ImageSpec spec(width, height, channels, type);
-        if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+        if (jpeg)
+            spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+        else
+            spec.attribute("png:compressionLevel", PG_PNG_COMPRESSION_LEVEL);
         if (!img->set_ioproxy(&vec)) return encode_fail(err, what, fmt, img->geterror());
         // No software/date metadata: identical planets give identical files.
         if (!img->open(name, spec)) return encode_fail(err, what, fmt, img->geterror());

@@ -154,6 +154,42 @@ static void test_pixel_limit_refused_before_alloc(void **s) {
     pg_image_free(&a);
 }
 
+/* The zlib stream of the first IDAT chunk records its level class in the FLEVEL bits
+ * (RFC 1950: 0 for levels 0-1, 1 for 2-5, 2 for 6, 3 for 7-9): PNGs are written at
+ * PG_PNG_COMPRESSION_LEVEL, not at libpng's default 6. */
+static void test_png_compression_level(void **s) {
+    (void)s;
+    char dir[1024], path[1100];
+    pg_test_scratch_dir("io_png_level", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/level.png", dir);
+    pg_image a;
+    pg_error err = {0};
+    assert_int_equal(pg_image_alloc(&a, 64, 64, 3, &err), PG_OK);
+    fill_pattern(&a);
+    assert_int_equal(pg_image_write_png(path, &a, 8, &err), PG_OK);
+    pg_image_free(&a);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    unsigned char b[1 << 16];
+    size_t n = fread(b, 1, sizeof b, f);
+    fclose(f);
+    int flevel = -1;
+    for (size_t i = 8; i + 10 <= n;) {
+        size_t len = (size_t)b[i] << 24 | (size_t)b[i + 1] << 16 | (size_t)b[i + 2] << 8 | b[i + 3];
+        if (!memcmp(b + i + 4, "IDAT", 4)) {
+            assert_int_equal(b[i + 8] & 0x0f, 8); /* deflate */
+            flevel = b[i + 9] >> 6;
+            break;
+        }
+        i += len + 12;
+    }
+    const int want = PG_PNG_COMPRESSION_LEVEL <= 1   ? 0
+                     : PG_PNG_COMPRESSION_LEVEL <= 5 ? 1
+                     : PG_PNG_COMPRESSION_LEVEL == 6 ? 2
+                                                     : 3;
+    assert_int_equal(flevel, want);
+}
+
 /* Copy a fuzz corpus entry (minus the harness's selector byte) to dir/name. */
 static void corpus_file(const char *entry, const char *dir, const char *name, char *out,
                         size_t size) {
@@ -311,6 +347,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_png8_roundtrip),
         cmocka_unit_test(test_png16_roundtrip),
+        cmocka_unit_test(test_png_compression_level),
         cmocka_unit_test(test_exr_float_roundtrip),
         cmocka_unit_test(test_exr_multipart),
         cmocka_unit_test(test_tiff_via_oiiotool),

@@ -261,6 +261,7 @@ extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, i
     TypeDesc fmt = bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16;
     ImageSpec spec(img->width, img->height, img->channels, fmt);
     spec.attribute("oiio:UnassociatedAlpha", 1); // our colours are never premultiplied
+    spec.attribute("png:compressionLevel", PG_PNG_COMPRESSION_LEVEL);
     auto out = ImageOutput::create("png");
     if (!out || !out->open(path, spec))
         return pg_error_set(err, PG_ERR_IO, "%s: cannot write (%s)", path,
