@@ -41,7 +41,7 @@ typedef struct pg_image {
 /* The zlib level of every PNG planetgen writes (files and the textures inside .glb).
  * On the default planet's albedo faces level 3 encodes about twice as fast as libpng's
  * default 6 for files about 5% larger; PNG encoding was a quarter of a `generate`
- * run's CPU time (docs/generate.md, "Speed"). */
+ * run's CPU time (docs/generate.md, "Performance of the whole run"). */
 #define PG_PNG_COMPRESSION_LEVEL 3
 
 /* Default refusal limit for pg_image_read: 2^31 pixels (about 46k x 46k). */
