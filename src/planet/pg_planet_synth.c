@@ -109,6 +109,7 @@ static pg_status prepare_level(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error
     if (!st) st = pg_ps_border_build(c, L, ts, false, &c->bm, err);
     if (!st) st = pg_ps_types_level(c, L->r, ts, err);
     if (!st) st = pg_ps_guide_level(c, L->r, err);
+    if (!st) st = pg_ps_world_level(c, L->r, err);
     return st;
 }
 

@@ -10,18 +10,6 @@
 #include <math.h>
 
 pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err) {
-    if (pg_ps_world_guide(c->p)) {
-        if (pg_ps_world_types(c->p)) return PG_OK; /* sampled with the mask */
-        pg_status st = PG_OK;
-        for (int f = 0; f < 6 && !st; f++) { /* distributed: the rows of the owned tiles */
-            int y0, y1;
-            pg_ps_owned_rows(c, r, f, &y0, &y1);
-            if (y0 < y1)
-                st = pg_planet_world_level(c->p->world, r, (int64_t)f * r + y0, (int64_t)f * r + y1,
-                                           c->guide + ((size_t)f * r + y0) * r, NULL, err);
-        }
-        return st;
-    }
     if (!c->p->guide) return PG_OK;
     const pg_guide *g = c->p->guide;
     int samples = (int)ceil((double)g->width / (4.0 * r));

@@ -178,6 +178,7 @@ void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float 
 
 pg_status pg_ps_world_setup(pg_ps_ctx *c, pg_error *err);
 uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y);
+pg_status pg_ps_world_level(pg_ps_ctx *c, int r, pg_error *err);
 
 /* --------------------------- pg_planet_synth_pits.c ---------------------------- */
 

@@ -72,22 +72,7 @@ static double sphere_lat(const double d[3]) {
 }
 
 /* Nearest-pixel type mask of every texel of a level (type colours are discrete). */
-/* Layout world's mask, and its guide with it when both come from the world (one pass
- * over the level; pg_ps_guide_level then has nothing left to do). */
 pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
-    if (pg_ps_world_types(c->p)) {
-        pg_status st = PG_OK;
-        for (int f = 0; f < 6 && !st; f++) { /* distributed: the rows of the owned tiles */
-            int y0, y1;
-            pg_ps_owned_rows(c, r, f, &y0, &y1);
-            if (y0 < y1)
-                st = pg_planet_world_level(
-                    c->p->world, r, (int64_t)f * r + y0, (int64_t)f * r + y1,
-                    pg_ps_world_guide(c->p) ? c->guide + ((size_t)f * r + y0) * r : NULL,
-                    c->mask + ((size_t)f * r + y0) * r, err);
-        }
-        return st;
-    }
     if (!c->p->types) return PG_OK;
     const pg_types_map *m = c->p->types;
     pg_cube_grid g;
