@@ -70,8 +70,11 @@ extern "C" pg_status pg_export_encode(const float *data, int width, int height, 
         ImageSpec spec(width, height, channels, type);
         if (jpeg)
             spec.attribute("Compression", "jpeg:" + std::to_string(quality));
-        else
+        else {
             spec.attribute("png:compressionLevel", PG_PNG_COMPRESSION_LEVEL);
+            spec.attribute("compression", PG_PNG_STRATEGY);
+            spec.attribute("png:filter", PG_PNG_FILTER);
+        }
         if (!img->set_ioproxy(&vec)) return encode_fail(err, what, fmt, img->geterror());
         // No software/date metadata: identical planets give identical files.
         if (!img->open(name, spec)) return encode_fail(err, what, fmt, img->geterror());

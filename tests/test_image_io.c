@@ -1,7 +1,9 @@
 /* test_image_io.c - image round trips through planetgen's own readers and writers,
- * and reading the formats users bring (TIFF made by oiiotool, grey, alpha). */
+ * and reading the formats users bring (TIFF made by oiiotool, grey, alpha), and how PNGs
+ * are encoded (the zlib strategy and the row filter of both encoders). */
 #include "pg_test.h"
 
+#include "pg_export_encode.h"
 #include "planetgen/pg_exr.h"
 #include "planetgen/pg_image.h"
 
@@ -12,6 +14,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 static void fill_pattern(pg_image *img) {
     for (int y = 0; y < img->height; y++)
@@ -154,40 +157,67 @@ static void test_pixel_limit_refused_before_alloc(void **s) {
     pg_image_free(&a);
 }
 
-/* The zlib stream of the first IDAT chunk records its level class in the FLEVEL bits
- * (RFC 1950: 0 for levels 0-1, 1 for 2-5, 2 for 6, 3 for 7-9): PNGs are written at
- * PG_PNG_COMPRESSION_LEVEL, not at libpng's default 6. */
-static void test_png_compression_level(void **s) {
+/* A PNG as written by both encoders (PG_PNG_STRATEGY, PG_PNG_FILTER in pg_image.h):
+ * the zlib header's FLEVEL bits (RFC 1950) are 0, which zlib writes for the Z_RLE
+ * strategy whatever the level (it wrote 1 for level 3 with the default strategy), and
+ * every inflated row starts with the Average filter's type byte (PNG spec 9.2: type k
+ * is the mask 0x08 << k). */
+static void check_png_encoding(const unsigned char *b, size_t n, int w, int h, int bytes_pp) {
+    assert_true(n > 8 && !memcmp(b, "\x89PNG", 4));
+    unsigned char *z = malloc(n);
+    size_t zn = 0;
+    for (size_t i = 8; i + 12 <= n;) {
+        size_t len = (size_t)b[i] << 24 | (size_t)b[i + 1] << 16 | (size_t)b[i + 2] << 8 | b[i + 3];
+        assert_true(i + 12 + len <= n);
+        if (!memcmp(b + i + 4, "IDAT", 4)) memcpy(z + zn, b + i + 8, len), zn += len;
+        i += len + 12;
+    }
+    assert_true(zn > 2);
+    assert_int_equal(z[0] & 0x0f, 8); /* deflate */
+    assert_int_equal(z[1] >> 6, 0);
+    size_t row = 1 + (size_t)w * bytes_pp, want = row * (size_t)h;
+    unsigned char *raw = malloc(want + 1);
+    uLongf got = (uLongf)want + 1;
+    assert_int_equal(uncompress(raw, &got, z, (uLong)zn), Z_OK);
+    assert_int_equal(got, want);
+    int type = 0;
+    while ((0x08 << type) != PG_PNG_FILTER)
+        type++;
+    assert_int_equal(type, 3); /* Average */
+    for (int y = 0; y < h; y++)
+        assert_int_equal(raw[(size_t)y * row], type);
+    free(raw);
+    free(z);
+}
+
+static void test_png_encoding(void **s) {
     (void)s;
     char dir[1024], path[1100];
-    pg_test_scratch_dir("io_png_level", dir, sizeof dir);
+    pg_test_scratch_dir("io_png_encoding", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/level.png", dir);
     pg_image a;
     pg_error err = {0};
-    assert_int_equal(pg_image_alloc(&a, 64, 64, 3, &err), PG_OK);
+    assert_int_equal(pg_image_alloc(&a, 64, 48, 3, &err), PG_OK);
     fill_pattern(&a);
-    assert_int_equal(pg_image_write_png(path, &a, 8, &err), PG_OK);
-    pg_image_free(&a);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    unsigned char b[1 << 16];
-    size_t n = fread(b, 1, sizeof b, f);
-    fclose(f);
-    int flevel = -1;
-    for (size_t i = 8; i + 10 <= n;) {
-        size_t len = (size_t)b[i] << 24 | (size_t)b[i + 1] << 16 | (size_t)b[i + 2] << 8 | b[i + 3];
-        if (!memcmp(b + i + 4, "IDAT", 4)) {
-            assert_int_equal(b[i + 8] & 0x0f, 8); /* deflate */
-            flevel = b[i + 9] >> 6;
-            break;
-        }
-        i += len + 12;
+    for (int bits = 8; bits <= 16; bits += 8) { /* the file writer */
+        assert_int_equal(pg_image_write_png(path, &a, bits, &err), PG_OK);
+        FILE *f = fopen(path, "rb");
+        assert_non_null(f);
+        unsigned char b[1 << 16];
+        size_t n = fread(b, 1, sizeof b, f);
+        fclose(f);
+        check_png_encoding(b, n, 64, 48, 3 * bits / 8);
     }
-    const int want = PG_PNG_COMPRESSION_LEVEL <= 1   ? 0
-                     : PG_PNG_COMPRESSION_LEVEL <= 5 ? 1
-                     : PG_PNG_COMPRESSION_LEVEL == 6 ? 2
-                                                     : 3;
-    assert_int_equal(flevel, want);
+    for (int bits = 8; bits <= 16; bits += 8) { /* the textures inside .glb */
+        uint8_t *b = NULL;
+        size_t n = 0;
+        assert_int_equal(pg_export_encode(a.data, 64, 48, 3, bits, true, PG_EXPORT_CODEC_PNG, 90,
+                                          "test", &b, &n, &err),
+                         PG_OK);
+        check_png_encoding(b, n, 64, 48, 3 * bits / 8);
+        free(b);
+    }
+    pg_image_free(&a);
 }
 
 /* Copy a fuzz corpus entry (minus the harness's selector byte) to dir/name. */
@@ -347,7 +377,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_png8_roundtrip),
         cmocka_unit_test(test_png16_roundtrip),
-        cmocka_unit_test(test_png_compression_level),
+        cmocka_unit_test(test_png_encoding),
         cmocka_unit_test(test_exr_float_roundtrip),
         cmocka_unit_test(test_exr_multipart),
         cmocka_unit_test(test_tiff_via_oiiotool),

@@ -38,11 +38,16 @@ typedef struct pg_image {
     char format_name[32]; /* e.g. "jpeg", "png", "tiff", "openexr" */
 } pg_image;
 
-/* The zlib level of every PNG planetgen writes (files and the textures inside .glb).
- * On the default planet's albedo faces level 3 encodes about twice as fast as libpng's
- * default 6 for files about 5% larger; PNG encoding was a quarter of a `generate`
- * run's CPU time (docs/generate.md, "Performance of the whole run"). */
+/* How every PNG planetgen writes is encoded (files and the textures inside .glb):
+ * zlib's Z_RLE strategy (matches at distance 1 only, so the level does not matter),
+ * after libpng's row filter PG_PNG_FILTER (a PNG_FILTER_* bit of png.h). On the
+ * default planet's images this encodes 2-4 times as fast as zlib level 3 with
+ * libpng's adaptive filters, and most files come out smaller: the filtered rows of
+ * smooth terrain are runs. PNG encoding was the largest part of writing the previews
+ * and the globe (docs/generate.md, "Performance of the whole run"). */
 #define PG_PNG_COMPRESSION_LEVEL 3
+#define PG_PNG_STRATEGY "rle"
+#define PG_PNG_FILTER 0x40 /* PNG_FILTER_AVG */
 
 /* Default refusal limit for pg_image_read: 2^31 pixels (about 46k x 46k). */
 #define PG_IMAGE_DEFAULT_MAX_PIXELS (UINT64_C(1) << 31)

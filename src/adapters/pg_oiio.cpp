@@ -262,6 +262,8 @@ extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, i
     ImageSpec spec(img->width, img->height, img->channels, fmt);
     spec.attribute("oiio:UnassociatedAlpha", 1); // our colours are never premultiplied
     spec.attribute("png:compressionLevel", PG_PNG_COMPRESSION_LEVEL);
+    spec.attribute("compression", PG_PNG_STRATEGY);
+    spec.attribute("png:filter", PG_PNG_FILTER);
     auto out = ImageOutput::create("png");
     if (!out || !out->open(path, spec))
         return pg_error_set(err, PG_ERR_IO, "%s: cannot write (%s)", path,
