@@ -3,6 +3,7 @@
 // vector, so no temporary file is needed. Floats are quantised here (clamp to 0..1,
 // round to nearest) so every encoder sees the same integers.
 #include "pg_export_encode.h"
+#include "pg_quantise.h"
 #include "planetgen/pg_image.h"
 
 #include <OpenImageIO/filesystem.h>
@@ -28,7 +29,7 @@ static void quantise(const float *src, int w, int h, int ch, bool bottom_up, dou
         for (size_t i = 0; i < row; i++) {
             float v = s[i];
             v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; // NaN -> 0
-            d[i] = (T)std::lround(v * maxv);
+            d[i] = (T)pg_round_half_up(v * maxv);
         }
     }
 }

@@ -4,10 +4,12 @@
  * refusal; the 3-vector helpers (pg_vec3.h) satisfy the identities of the algebra and
  * compute exactly the expressions they replaced; a reserved span (pg_span.h) and a
  * planet of some rows (pg_planet_alloc_rows) commit only the opened rows, which read
- * as zero, and a touch of any other row faults. */
+ * as zero, and a touch of any other row faults; the image quantiser's rounding
+ * (pg_quantise.h) is lround on every float of 0..1 scaled to 8 and 16 bits. */
 #include "pg_test.h"
 
 #include "pg_array.h"
+#include "pg_quantise.h"
 #include "pg_span.h"
 #include "pg_vec3.h"
 #include "planetgen/pg_planet.h"
@@ -274,12 +276,38 @@ static void test_planet_alloc_rows(void **state) {
     assert_null(p.height[2]);
 }
 
+/* pg_round_half_up against lround: every 61st float of [0, 1] (all of them take a minute)
+ * times 255 and 65535, every tie k + 1/2 of 16 bits and its two neighbours, and the
+ * float just below 1/2, whose sum with 1/2 rounds up to 1 in double. */
+static void test_round_half_up(void **s) {
+    (void)s;
+    uint64_t checked = 0;
+    for (uint32_t b = 0; b <= 0x3f800000u; b += 61) {
+        float v;
+        memcpy(&v, &b, sizeof v);
+        const double scale[2] = {255.0, 65535.0};
+        for (int k = 0; k < 2; k++, checked++) {
+            double x = v * scale[k];
+            if (pg_round_half_up(x) != (double)lround(x)) fail_msg("%.17g", x);
+        }
+    }
+    for (int k = 0; k <= 65535; k++) {
+        const double t = k + 0.5, x[3] = {t, nextafter(t, 0), nextafter(t, 1e9)};
+        for (int i = 0; i < 3; i++, checked++)
+            if (pg_round_half_up(x[i]) != (double)lround(x[i])) fail_msg("%.17g", x[i]);
+    }
+    assert_true(pg_round_half_up(0.5) == 1 && pg_round_half_up(2.5) == 3);
+    assert_true(pg_round_half_up(nextafter(0.5, 0)) == 0);
+    printf("pg_round_half_up: %llu values as lround\n", (unsigned long long)checked);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_array_growth),
         cmocka_unit_test(test_array_reserve_jumps),
         cmocka_unit_test(test_array_zero_sizes),
         cmocka_unit_test(test_array_overflow_refused),
+        cmocka_unit_test(test_round_half_up),
         cmocka_unit_test(test_vec3_arithmetic),
         cmocka_unit_test(test_vec3_cross),
         cmocka_unit_test(test_vec3_length_normalize),

@@ -5,6 +5,7 @@
 // "empty" get precise messages, then open the file and check its size against the
 // pixel limit BEFORE any pixel memory is allocated. OpenImageIO reports truncated
 // data as an error from read_image (or as a pending error message): both count.
+#include "pg_quantise.h"
 #include "planetgen/pg_image.h"
 
 #include <OpenImageIO/imageio.h>
@@ -249,7 +250,7 @@ template <typename T> static std::vector<T> quantise(const pg_image *img, double
         double v = img->data[i];
         v = std::isfinite(v) ? v : 0.0;
         v = v < 0 ? 0 : (v > 1 ? 1 : v);
-        q[i] = static_cast<T>(std::lround(v * maxv));
+        q[i] = static_cast<T>(pg_round_half_up(v * maxv));
     }
     return q;
 }
