@@ -4,7 +4,8 @@
  * orthogonal to them, vertices are displaced by the exaggerated height (the
  * Antarctic plateau stands out, the Arctic Ocean lies at sea level), the default
  * mesh is about 200k triangles, options are checked, and the multi-part EXR reads
- * back equal to the heights (in our reader, exrheader and oiiotool). */
+ * back equal to the heights (in our reader, exrheader and oiiotool); the globe renders
+ * shade the relief (a hill is lit on its side towards the light). */
 #include "export_fixture.h"
 
 #include "pg_export_internal.h"
@@ -195,9 +196,79 @@ static void test_exr_roundtrip(void **s) {
     pg_planet_free(&p);
 }
 
+/* A grey planet (everything above the sea) with, optionally, a Gaussian hill of 8 km
+ * and 0.05 rad at latitude 0, longitude 0: the centre of globe_lon000.png. */
+static void hill_planet(pg_planet *p, bool hill) {
+    pg_error err = {0};
+    assert_int_equal(pg_planet_alloc(p, PG_CUBE_EQUIANGULAR, 1, 128, pg_ellipsoid_wgs84(), &err),
+                     PG_OK);
+    p->sea_level = -100;
+    pg_cube_grid g;
+    assert_int_equal(pg_cube_grid_init(&g, p->projection, 1, 128, &err), PG_OK);
+    for (int f = 0; f < 6; f++)
+        for (int64_t i = 0; i < p->n * p->n; i++) {
+            double d[3];
+            pg_cube_texel_dir(&g, (int64_t)f * p->n * p->n + i, d);
+            double ang = acos(d[0] > 1 ? 1 : d[0]) / 0.05;
+            p->height[f][i] = hill ? (float)(8000 * exp(-ang * ang)) : 0;
+            for (int c = 0; c < 3; c++)
+                p->albedo[f][3 * i + c] = 0.5f;
+        }
+}
+
+/* Pixel (x, y) of a planet's globe_lon000.png rendered at 256 px, grey 0..1. */
+static void render_lon000(bool hill, const char *tag, pg_image *img) {
+    pg_planet p;
+    hill_planet(&p, hill);
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.glb = o.exr = false;
+    o.globe_size = 256;
+    char dir[1024], path[1200];
+    pg_test_scratch_dir(tag, dir, sizeof dir);
+    pg_planet_dir_paths st = {.dir = dir};
+    pg_error err = {0};
+    assert_int_equal(pg_export_write(&p, &o, pg_planet_dir_path, &st, NULL, &err), PG_OK);
+    pg_planet_free(&p);
+    snprintf(path, sizeof path, "%s/globe_lon000.png", dir);
+    assert_int_equal(pg_image_read(path, 0, img, &err), PG_OK);
+    assert_int_equal(img->width, 256);
+}
+
+static double grey_at(const pg_image *img, int x, int y) {
+    return img->data[((size_t)y * img->width + x) * img->channels] * img->unit_scale;
+}
+
+/* The light comes from the upper left (north-west in globe_lon000, whose right is
+ * east). So on the hill the north-west flank is brighter than the flat planet there,
+ * the south-east flank darker, and the top, where the slope is 0, the same; far from
+ * the hill nothing changes. A gradient with a wrong sign or axis fails. */
+static void test_globe_shades_relief(void **s) {
+    (void)s;
+    pg_image flat, hill;
+    render_lon000(false, "export_globe_flat", &flat);
+    render_lon000(true, "export_globe_hill", &hill);
+    const int c = 128, d = 4; /* the hill's flanks are steepest 4.4 px from its top */
+    double nw[2] = {grey_at(&flat, c - d, c - d), grey_at(&hill, c - d, c - d)};
+    double se[2] = {grey_at(&flat, c + d - 1, c + d - 1), grey_at(&hill, c + d - 1, c + d - 1)};
+    double top[2] = {0.5 * (grey_at(&flat, c - 1, c - 1) + grey_at(&flat, c, c)),
+                     0.5 * (grey_at(&hill, c - 1, c - 1) + grey_at(&hill, c, c))};
+    double far[2] = {grey_at(&flat, c + 60, c - 40), grey_at(&hill, c + 60, c - 40)};
+    printf("flat / hill: north-west %.3f / %.3f, south-east %.3f / %.3f, top %.3f / %.3f, far "
+           "%.3f / %.3f\n",
+           nw[0], nw[1], se[0], se[1], top[0], top[1], far[0], far[1]);
+    assert_true(nw[1] > 1.1 * nw[0]);
+    assert_true(se[1] < 0.9 * se[0]);
+    assert_true(fabs(top[1] - top[0]) < 0.05 * top[0]);
+    assert_true(fabs(far[1] - far[0]) <= 1.0 / 255);
+    pg_image_free(&flat);
+    pg_image_free(&hill);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_options_checked),
                                        cmocka_unit_test(test_mesh_watertight_and_displaced),
-                                       cmocka_unit_test(test_exr_roundtrip)};
+                                       cmocka_unit_test(test_exr_roundtrip),
+                                       cmocka_unit_test(test_globe_shades_relief)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
