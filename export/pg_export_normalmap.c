@@ -25,6 +25,10 @@ typedef struct nm_ctx {
     const pg_export_mesh *mesh;
     int64_t n, q; /* texels per face edge, per mesh quad edge */
     double sea;
+    /* The vertex heights of the window's face, vertices [i0, i0 + vw) x [j0, j0 + vh), so
+     * the texels there do not look up their four vertices in the mesh each (NULL: none). */
+    const double *vt;
+    int vface, i0, j0, vw, vh;
 } nm_ctx;
 
 static double clamped(const nm_ctx *c, int face, int64_t x, int64_t y) {
@@ -33,8 +37,32 @@ static double clamped(const nm_ctx *c, int face, int64_t x, int64_t y) {
 }
 
 static double vertex_height(const nm_ctx *c, int face, int i, int j) {
+    if (c->vt && face == c->vface && i >= c->i0 && j >= c->j0 && i < c->i0 + c->vw &&
+        j < c->j0 + c->vh)
+        return c->vt[(size_t)(j - c->j0) * c->vw + (i - c->i0)];
     int64_t r = pg_export_verts_find(&c->mesh->verts, face, i, j);
     return r < 0 ? NAN : c->mesh->verts.vh[r];
+}
+
+/* Tabulate the vertex heights of the quads that texels [x0 - 1, x0 + w]^2 of the face
+ * fall in (false when out of memory: then every texel looks them up). */
+static bool vertex_table(nm_ctx *c, int face, int64_t x0, int64_t y0, int64_t w) {
+    const int m = c->mesh->m;
+    int64_t lo[2] = {x0 - 1, y0 - 1}, hi[2] = {x0 + w, y0 + w};
+    int a[2], b[2];
+    for (int k = 0; k < 2; k++) {
+        lo[k] = lo[k] < 0 ? 0 : lo[k], hi[k] = hi[k] >= c->n ? c->n - 1 : hi[k];
+        a[k] = (int)(lo[k] / c->q), b[k] = (int)(hi[k] / c->q);
+        b[k] = (b[k] >= m ? m - 1 : b[k]) + 1; /* the last quad's far vertices */
+    }
+    c->vw = b[0] - a[0] + 1, c->vh = b[1] - a[1] + 1, c->i0 = a[0], c->j0 = a[1];
+    double *t = malloc((size_t)c->vw * c->vh * sizeof *t);
+    if (!t) return false;
+    for (int j = 0; j < c->vh; j++)
+        for (int i = 0; i < c->vw; i++)
+            t[(size_t)j * c->vw + i] = vertex_height(c, face, c->i0 + i, c->j0 + j);
+    c->vface = face, c->vt = t;
+    return true;
 }
 
 /* The mesh's interpolated height at texel centre (x, y) of a face. */
@@ -98,11 +126,14 @@ pg_status pg_export_normal_map(const pg_export_heights *h, const pg_cube_grid *g
                                int64_t x0, int64_t y0, int64_t w, float *rgb, pg_error *err) {
     const pg_planet *p = h->p;
     int64_t n = p->n, dw = w + 2;
-    nm_ctx c = {h, g, mesh, n, n / mesh->m, p->sea_level};
+    nm_ctx c = {h, g, mesh, n, n / mesh->m, p->sea_level, NULL, 0, 0, 0, 0, 0};
+    vertex_table(&c, face, x0, y0, w);
     float *d = malloc((size_t)dw * dw * sizeof(float));
-    if (!d)
+    if (!d) {
+        free((void *)c.vt);
         return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the normal map of face %s",
                             pg_cube_face_name(face));
+    }
     double su[SPACING_GRID * SPACING_GRID], sv[SPACING_GRID * SPACING_GRID];
     spacing_table(p, face, x0, y0, w, su, sv);
     /* the window and its ring inside the face, but for the ring's corners (never read) */
@@ -133,6 +164,7 @@ pg_status pg_export_normal_map(const pg_export_heights *h, const pg_cube_grid *g
             ok = ok && isfinite(l);
         }
     free(d);
+    free((void *)c.vt);
     if (!ok)
         return pg_error_set(err, PG_ERR_RUNTIME,
                             "normal map of face %s: heights around the window are missing",
