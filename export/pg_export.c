@@ -148,10 +148,9 @@ static pg_status write_bytes(const char *path, const uint8_t *b, size_t n, pg_er
     return PG_OK;
 }
 
-/* Encode one image of primitive k/3 into slot k and name it. */
-static pg_status encode_slot(const glb_part *gp, glb_images *gi, int k, const char *kind,
-                             const float *data, int ch, int bits, pg_export_codec codec,
-                             int quality, pg_error *err) {
+/* Name slot k, the image of primitive k/3. */
+static void name_slot(const glb_part *gp, glb_images *gi, int k, const char *kind,
+                      pg_export_codec codec) {
     int face = part_face(gp, k / 3);
     const char *ext = codec == PG_EXPORT_CODEC_JPEG ? "jpg" : "png";
     if (gp->tag[0])
@@ -159,11 +158,28 @@ static pg_status encode_slot(const glb_part *gp, glb_images *gi, int k, const ch
     else
         snprintf(gi->names[k], sizeof gi->names[k], "%s_%s", kind, pg_cube_face_name(face));
     snprintf(gi->uris[k], sizeof gi->uris[k], "planet_%s_%s.%s", kind, face_tag[face], ext);
-    pg_gltf_image *im = &gi->img[k];
-    im->name = gi->names[k];
-    im->mime = codec == PG_EXPORT_CODEC_JPEG ? "image/jpeg" : "image/png";
+    gi->img[k].name = gi->names[k];
+    gi->img[k].mime = codec == PG_EXPORT_CODEC_JPEG ? "image/jpeg" : "image/png";
+}
+
+/* Encode one image of primitive k/3 into slot k and name it. */
+static pg_status encode_slot(const glb_part *gp, glb_images *gi, int k, const char *kind,
+                             const float *data, int ch, int bits, pg_export_codec codec,
+                             int quality, pg_error *err) {
+    name_slot(gp, gi, k, kind, codec);
     return pg_export_encode(data, (int)gp->w, (int)gp->w, ch, bits, true, codec, quality,
-                            gi->uris[k], &gi->bytes[k], &im->size, err);
+                            gi->uris[k], &gi->bytes[k], &gi->img[k].size, err);
+}
+
+/* Slot k from albedo PNG bytes the caller encoded already (a copy: slots own theirs). */
+static pg_status reuse_slot(const glb_part *gp, glb_images *gi, int k, const uint8_t *png,
+                            size_t size, pg_error *err) {
+    name_slot(gp, gi, k, "albedo", PG_EXPORT_CODEC_PNG);
+    gi->bytes[k] = malloc(size);
+    if (!gi->bytes[k]) return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
+    memcpy(gi->bytes[k], png, size);
+    gi->img[k].size = size;
+    return PG_OK;
 }
 
 /* The window's texels of a face array (ch floats a texel), rows bottom-up. */
@@ -192,6 +208,10 @@ static pg_status encode_job(const glb_part *gp, const pg_export_opts *o, double 
     size_t nn = (size_t)gp->w * (size_t)gp->w;
     pg_export_codec codec = PG_EXPORT_CODEC_PNG;
     if (k == 0 && o->texture_format == PG_EXPORT_TEXTURE_JPEG) codec = PG_EXPORT_CODEC_JPEG;
+    if (k == 0 && whole && codec == PG_EXPORT_CODEC_PNG && o->albedo_png &&
+        o->albedo_png->albedo_png[f])
+        return reuse_slot(gp, gi, 3 * prim, o->albedo_png->albedo_png[f],
+                          o->albedo_png->albedo_png_size[f], err);
     float *data = NULL;
     if (k == 0)
         data = whole ? p->albedo[f] : cut_window(gp, p->albedo[f], 3);

@@ -5,7 +5,8 @@
  * Antarctic plateau stands out, the Arctic Ocean lies at sea level), the default
  * mesh is about 200k triangles, options are checked, and the multi-part EXR reads
  * back equal to the heights (in our reader, exrheader and oiiotool); the globe renders
- * shade the relief (a hill is lit on its side towards the light). */
+ * shade the relief (a hill is lit on its side towards the light); planet.glb embeds
+ * the albedo PNGs the planet's save kept, and encodes the same bytes itself. */
 #include "export_fixture.h"
 
 #include "pg_export_internal.h"
@@ -265,10 +266,103 @@ static void test_globe_shades_relief(void **s) {
     pg_image_free(&hill);
 }
 
+static uint8_t *read_all(const char *path, size_t *n) {
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    *n = (size_t)ftell(f);
+    fseek(f, 0, SEEK_SET);
+    uint8_t *b = malloc(*n);
+    assert_int_equal(fread(b, 1, *n, f), *n);
+    fclose(f);
+    return b;
+}
+
+/* Where `needle` occurs in the file (-1: nowhere). */
+static long find_bytes(const uint8_t *hay, size_t n, const uint8_t *needle, size_t m) {
+    for (size_t i = 0; m <= n && i + m <= n; i++)
+        if (hay[i] == needle[0] && !memcmp(hay + i, needle, m)) return (long)i;
+    return -1;
+}
+
+/* Export dir's planet as planet.glb only, with the given albedo PNGs (or none). */
+static void export_glb(const pg_planet *p, const pg_planet_encoded *png, bool jpeg,
+                       const char *dir) {
+    pg_export_opts o;
+    pg_export_opts_default(&o);
+    o.exr = o.previews = false;
+    o.albedo_png = png;
+    if (jpeg) o.texture_format = PG_EXPORT_TEXTURE_JPEG;
+    pg_planet_dir_paths st = {.dir = dir};
+    pg_error err = {0};
+    assert_int_equal(pg_export_write(p, &o, pg_planet_dir_path, &st, NULL, &err), PG_OK);
+}
+
+/* pg_planet_save_encoded keeps each albedo face's file bytes. planet.glb encodes the
+ * same bytes itself; given other PNGs (a 4 x 4 image per face) it embeds those, in
+ * face order; with JPEG textures it ignores them. */
+static void test_glb_embeds_saved_albedo(void **s) {
+    (void)s;
+    pg_planet p;
+    fixture_earth(&p, 1, 64);
+    char dir[1024], path[1200];
+    pg_test_scratch_dir("export_albedo_reuse", dir, sizeof dir);
+    pg_planet_dir_paths st = {.dir = dir};
+    pg_planet_encoded kept, marks;
+    pg_error err = {0};
+    assert_int_equal(pg_planet_save_encoded(&p, pg_planet_dir_path, &st, &kept, &err), PG_OK);
+    memset(&marks, 0, sizeof marks);
+    for (int f = 0; f < 6; f++) {
+        char name[64];
+        pg_planet_albedo_name(f, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        size_t n;
+        uint8_t *file = read_all(path, &n);
+        assert_int_equal(n, kept.albedo_png_size[f]);
+        assert_memory_equal(file, kept.albedo_png[f], n);
+        free(file);
+        pg_image tiny;
+        assert_int_equal(pg_image_alloc(&tiny, 4, 4, 3, &err), PG_OK);
+        for (int i = 0; i < 48; i++)
+            tiny.data[i] = (float)((f * 48 + i) % 251) / 250.0f;
+        assert_int_equal(
+            pg_image_encode_png(&tiny, 8, &marks.albedo_png[f], &marks.albedo_png_size[f], &err),
+            PG_OK);
+        pg_image_free(&tiny);
+    }
+    snprintf(path, sizeof path, "%s/planet.glb", dir);
+    size_t n;
+    export_glb(&p, NULL, false, dir); /* encoded by the exporter */
+    uint8_t *glb = read_all(path, &n);
+    for (int f = 0; f < 6; f++)
+        assert_true(find_bytes(glb, n, kept.albedo_png[f], kept.albedo_png_size[f]) > 0);
+    free(glb);
+    export_glb(&p, &marks, false, dir); /* given */
+    glb = read_all(path, &n);
+    long last = 0;
+    for (int f = 0; f < 6; f++) {
+        long at = find_bytes(glb, n, marks.albedo_png[f], marks.albedo_png_size[f]);
+        assert_true(at > last);
+        last = at;
+        assert_int_equal(find_bytes(glb, n, kept.albedo_png[f], kept.albedo_png_size[f]), -1);
+    }
+    free(glb);
+    export_glb(&p, &marks, true, dir); /* JPEG textures: the PNGs do not apply */
+    glb = read_all(path, &n);
+    for (int f = 0; f < 6; f++)
+        assert_int_equal(find_bytes(glb, n, marks.albedo_png[f], marks.albedo_png_size[f]), -1);
+    free(glb);
+    pg_planet_encoded_free(&kept);
+    pg_planet_encoded_free(&marks);
+    for (int f = 0; f < 6; f++)
+        assert_null(kept.albedo_png[f]);
+    pg_planet_free(&p);
+}
+
 int main(void) {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_options_checked),
-                                       cmocka_unit_test(test_mesh_watertight_and_displaced),
-                                       cmocka_unit_test(test_exr_roundtrip),
-                                       cmocka_unit_test(test_globe_shades_relief)};
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_options_checked),
+        cmocka_unit_test(test_mesh_watertight_and_displaced), cmocka_unit_test(test_exr_roundtrip),
+        cmocka_unit_test(test_globe_shades_relief), cmocka_unit_test(test_glb_embeds_saved_albedo)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

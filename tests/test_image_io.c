@@ -207,6 +207,12 @@ static void test_png_encoding(void **s) {
         size_t n = fread(b, 1, sizeof b, f);
         fclose(f);
         check_png_encoding(b, n, 64, 48, 3 * bits / 8);
+        uint8_t *m = NULL; /* in memory: the file's bytes */
+        size_t mn = 0;
+        assert_int_equal(pg_image_encode_png(&a, bits, &m, &mn, &err), PG_OK);
+        assert_int_equal(mn, n);
+        assert_memory_equal(m, b, n);
+        free(m);
     }
     for (int bits = 8; bits <= 16; bits += 8) { /* the textures inside .glb */
         uint8_t *b = NULL;

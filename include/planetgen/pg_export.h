@@ -88,6 +88,10 @@ typedef struct pg_export_opts {
     bool geotiff_tiled;                      /* ... as tiles plus VRT mosaics */
     int preview_width;                       /* equirect width; 0: 4 face widths, at most 2048 */
     int globe_size;                          /* orthographic render size in pixels */
+    /* Optional, borrowed: the albedo faces already encoded (pg_planet_save_encoded), which
+     * planet.glb embeds as they are when its albedo textures are PNG, instead of encoding
+     * the same pixels again. NULL: encode them. */
+    const pg_planet_encoded *albedo_png;
 } pg_export_opts;
 
 /* Defaults: PNG textures embedded, default mesh and exaggeration, all outputs. */

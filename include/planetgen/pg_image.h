@@ -82,6 +82,11 @@ pg_status pg_image_alloc(pg_image *img, int width, int height, int channels, pg_
 /* Write a PNG with 8 or 16 bits per sample; data values 0..1 are clamped and rounded. */
 pg_status pg_image_write_png(const char *path, const pg_image *img, int bits, pg_error *err);
 
+/* The same PNG's bytes in memory, byte for byte the file pg_image_write_png writes.
+ * On success *bytes is malloc'ed (the caller frees it) and *size set. */
+pg_status pg_image_encode_png(const pg_image *img, int bits, uint8_t **bytes, size_t *size,
+                              pg_error *err);
+
 /* Write a single-part float32 OpenEXR (OpenEXR C API). Channels are named Y (1),
  * Y+A (2), R,G,B (3) or R,G,B,A (4); `channel_names` overrides when not NULL. */
 pg_status pg_image_write_exr(const char *path, const pg_image *img, const char **channel_names,

@@ -126,6 +126,21 @@ void pg_planet_albedo_name(int face, char *buf, size_t size); /* "albedo_+X.png"
 typedef const char *(*pg_planet_path_fn)(const char *name, void *user);
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user, pg_error *err);
 
+/* The albedo faces as pg_planet_save_encoded wrote them: each face's PNG bytes, the
+ * same bytes as its file (8-bit RGB, image rows top-down), so that an exporter embeds
+ * them instead of encoding them again (pg_export_opts.albedo_png). Owned by the
+ * caller: pg_planet_encoded_free frees the bytes and zeroes the struct. */
+typedef struct pg_planet_encoded {
+    uint8_t *albedo_png[PG_CUBE_NFACES];
+    size_t albedo_png_size[PG_CUBE_NFACES];
+} pg_planet_encoded;
+void pg_planet_encoded_free(pg_planet_encoded *e);
+
+/* pg_planet_save, keeping the albedo faces' PNG bytes in *keep (zeroed first; on
+ * failure nothing is kept). */
+pg_status pg_planet_save_encoded(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                                 pg_planet_encoded *keep, pg_error *err);
+
 /* planet.json's parameters as a JSON object (NULL when out of memory; caller frees),
  * and writing a JSON object to path_for(name) (frees j; NULL j is out of memory). */
 struct pg_json;

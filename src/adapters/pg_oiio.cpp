@@ -8,6 +8,7 @@
 #include "pg_quantise.h"
 #include "planetgen/pg_image.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cerrno>
@@ -255,30 +256,66 @@ template <typename T> static std::vector<T> quantise(const pg_image *img, double
     return q;
 }
 
-extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, int bits,
-                                        pg_error *err) {
-    if (bits != 8 && bits != 16)
-        return pg_error_set(err, PG_ERR_BADINPUT, "%s: PNG bit depth %d not 8 or 16", path, bits);
-    TypeDesc fmt = bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16;
+// The spec of every PNG planetgen writes (pg_image.h: PG_PNG_*).
+static ImageSpec png_spec(const pg_image *img, TypeDesc fmt) {
     ImageSpec spec(img->width, img->height, img->channels, fmt);
     spec.attribute("oiio:UnassociatedAlpha", 1); // our colours are never premultiplied
     spec.attribute("png:compressionLevel", PG_PNG_COMPRESSION_LEVEL);
     spec.attribute("compression", PG_PNG_STRATEGY);
     spec.attribute("png:filter", PG_PNG_FILTER);
+    return spec;
+}
+
+// The image's samples, quantised to `bits`, through an opened output; then close it.
+static bool png_pixels(ImageOutput *out, const pg_image *img, int bits) {
+    bool ok;
+    if (bits == 8) {
+        std::vector<uint8_t> q = quantise<uint8_t>(img, 255.0);
+        ok = out->write_image(TypeDesc::UINT8, q.data());
+    } else {
+        std::vector<uint16_t> q = quantise<uint16_t>(img, 65535.0);
+        ok = out->write_image(TypeDesc::UINT16, q.data());
+    }
+    return out->close() && ok;
+}
+
+extern "C" pg_status pg_image_encode_png(const pg_image *img, int bits, uint8_t **bytes,
+                                         size_t *size, pg_error *err) {
+    *bytes = nullptr;
+    *size = 0;
+    if (bits != 8 && bits != 16)
+        return pg_error_set(err, PG_ERR_BADINPUT, "PNG bit depth %d not 8 or 16", bits);
+    std::vector<unsigned char> buf;
+    try {
+        Filesystem::IOVecOutput vec(buf);
+        auto out = ImageOutput::create("mem.png");
+        ImageSpec spec = png_spec(img, bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16);
+        if (!out || !out->set_ioproxy(&vec) || !out->open("mem.png", spec))
+            return pg_error_set(err, PG_ERR_RUNTIME, "PNG encoding failed (%s)",
+                                one_line(out ? out->geterror() : OIIO::geterror()).c_str());
+        if (!png_pixels(out.get(), img, bits))
+            return pg_error_set(err, PG_ERR_RUNTIME, "PNG encoding failed (%s)",
+                                one_line(out->geterror()).c_str());
+    } catch (const std::exception &e) {
+        return pg_error_set(err, PG_ERR_NOMEM, "PNG encoding: %s", e.what());
+    }
+    *bytes = (uint8_t *)std::malloc(buf.size() ? buf.size() : 1);
+    if (!*bytes) return pg_error_set(err, PG_ERR_NOMEM, "PNG encoding: out of memory");
+    std::memcpy(*bytes, buf.data(), buf.size());
+    *size = buf.size();
+    return PG_OK;
+}
+
+extern "C" pg_status pg_image_write_png(const char *path, const pg_image *img, int bits,
+                                        pg_error *err) {
+    if (bits != 8 && bits != 16)
+        return pg_error_set(err, PG_ERR_BADINPUT, "%s: PNG bit depth %d not 8 or 16", path, bits);
+    ImageSpec spec = png_spec(img, bits == 8 ? TypeDesc::UINT8 : TypeDesc::UINT16);
     auto out = ImageOutput::create("png");
     if (!out || !out->open(path, spec))
         return pg_error_set(err, PG_ERR_IO, "%s: cannot write (%s)", path,
                             one_line(out ? out->geterror() : OIIO::geterror()).c_str());
-    bool ok;
-    if (bits == 8) {
-        std::vector<uint8_t> q = quantise<uint8_t>(img, 255.0);
-        ok = out->write_image(fmt, q.data());
-    } else {
-        std::vector<uint16_t> q = quantise<uint16_t>(img, 65535.0);
-        ok = out->write_image(fmt, q.data());
-    }
-    ok = out->close() && ok;
-    if (!ok)
+    if (!png_pixels(out.get(), img, bits))
         return pg_error_set(err, PG_ERR_IO, "%s: write failed (%s)", path,
                             one_line(out->geterror()).c_str());
     // libpng inside OpenImageIO does not report a short write (full disk, file-size

@@ -276,9 +276,11 @@ const char *gen_path_for(const char *name, void *user) {
 
 /* Previews (albedo.png, relief.png, globe_*.png) and the glTF globe through the export
  * module; height.exr is already in the planet directory. */
-static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *p, pg_error *err) {
+static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *p,
+                               const pg_planet_encoded *albedo_png, pg_error *err) {
     pg_export_opts o;
     pg_export_opts_default(&o);
+    o.albedo_png = albedo_png; /* the face files' PNGs: planet.glb embeds the same bytes */
     o.exr = false;
     o.glb = !a->no_glb;
     o.geotiff = a->geotiff;
@@ -504,14 +506,16 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     } else {
         pg_cli_stage_begin(cli, "write planet");
         path_ctx pc = {cli, a->outdir};
-        st = pg_planet_save(&planet, gen_path_for, &pc, &err);
+        pg_planet_encoded enc;
+        st = pg_planet_save_encoded(&planet, gen_path_for, &pc, a->no_glb ? NULL : &enc, &err);
         pg_cli_stage_end(cli);
         if (!st && in->has_world) st = gen_world_write(cli, a, &in->world, &err);
         if (!st) {
             pg_cli_stage_begin(cli, "write previews and globe");
-            st = write_exports(cli, a, &planet, &err);
+            st = write_exports(cli, a, &planet, a->no_glb ? NULL : &enc, &err);
             pg_cli_stage_end(cli);
         }
+        if (!a->no_glb) pg_planet_encoded_free(&enc);
         if (st) rc = pg_cli_fail(cli, &err);
     }
     pg_planet_free(&planet);

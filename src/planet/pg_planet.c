@@ -155,14 +155,36 @@ static void flip_rows(const float *src, float *dst, int64_t n, int ch) {
         memcpy(dst + (size_t)(n - 1 - y) * row, src + (size_t)y * row, row * sizeof(float));
 }
 
-static pg_status save_albedo_face(const pg_planet *p, int f, const char *path, pg_error *err) {
+/* Encode face f's albedo PNG, write it to path, and keep its bytes when asked. */
+static pg_status save_albedo_face(const pg_planet *p, int f, const char *path, uint8_t **keep,
+                                  size_t *keep_size, pg_error *err) {
     pg_image img;
     pg_status st = pg_image_alloc(&img, (int)p->n, (int)p->n, 3, err);
     if (st != PG_OK) return st;
     flip_rows(p->albedo[f], img.data, p->n, 3);
-    st = pg_image_write_png(path, &img, 8, err);
+    uint8_t *b = NULL;
+    size_t n = 0;
+    st = pg_image_encode_png(&img, 8, &b, &n, err);
     pg_image_free(&img);
+    FILE *fp = st == PG_OK ? fopen(path, "wb") : NULL;
+    if (st == PG_OK && !fp) st = pg_error_set(err, PG_ERR_IO, "%s: cannot write", path);
+    if (fp) {
+        size_t w = fwrite(b, 1, n, fp);
+        if (fclose(fp) != 0 || w != n)
+            st = pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    }
+    if (st == PG_OK && keep) {
+        *keep = b, *keep_size = n;
+        return PG_OK;
+    }
+    free(b);
     return st;
+}
+
+void pg_planet_encoded_free(pg_planet_encoded *e) {
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        free(e->albedo_png[f]);
+    memset(e, 0, sizeof *e);
 }
 
 static pg_status save_height(const pg_planet *p, const char *path, pg_error *err) {
@@ -286,6 +308,12 @@ enum { SAVE_SOURCE = PG_CUBE_NFACES, SAVE_HEIGHT, SAVE_JOBS };
 
 pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *user,
                          pg_error *err) {
+    return pg_planet_save_encoded(p, path_for, user, NULL, err);
+}
+
+pg_status pg_planet_save_encoded(const pg_planet *p, pg_planet_path_fn path_for, void *user,
+                                 pg_planet_encoded *keep, pg_error *err) {
+    if (keep) memset(keep, 0, sizeof *keep);
     char paths[SAVE_JOBS][4096];
     bool has_source = pg_planet_has_source(p);
     for (int j = 0; j < SAVE_JOBS; j++) {
@@ -307,15 +335,19 @@ pg_status pg_planet_save(const pg_planet *p, pg_planet_path_fn path_for, void *u
     for (int k = 0; k < SAVE_JOBS; k++) {
         int j = (k + SAVE_SOURCE) % SAVE_JOBS; /* source, height, then the faces */
         if (j < PG_CUBE_NFACES)
-            sk[j] = save_albedo_face(p, j, paths[j], &e[j]);
+            sk[j] = save_albedo_face(p, j, paths[j], keep ? &keep->albedo_png[j] : NULL,
+                                     keep ? &keep->albedo_png_size[j] : NULL, &e[j]);
         else if (j == SAVE_HEIGHT)
             sk[j] = save_height(p, paths[j], &e[j]);
         else
             sk[j] = has_source ? save_source(p, paths[j], &e[j]) : PG_OK;
     }
-    for (int j = 0; j < SAVE_JOBS; j++)
-        if (sk[j] != PG_OK) return pg_error_set(err, sk[j], "%s", e[j].msg);
-    return save_meta(p, path_for, user, err);
+    pg_status st = PG_OK;
+    for (int j = 0; st == PG_OK && j < SAVE_JOBS; j++)
+        if (sk[j] != PG_OK) st = pg_error_set(err, sk[j], "%s", e[j].msg);
+    if (st == PG_OK) st = save_meta(p, path_for, user, err);
+    if (st != PG_OK && keep) pg_planet_encoded_free(keep);
+    return st;
 }
 
 const char *pg_planet_dir_path(const char *name, void *user) {
