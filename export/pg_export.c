@@ -79,13 +79,15 @@ pg_status pg_export_check_opts(const pg_export_opts *o, int tiles, int tile_size
 
 static void height_range(const pg_planet *p, double *lo, double *hi) {
     double mn = INFINITY, mx = -INFINITY;
-    size_t nn = (size_t)p->n * p->n;
+    const int64_t n = p->n;
+#pragma omp parallel for collapse(2) schedule(static) reduction(min : mn) reduction(max : mx)
     for (int f = 0; f < PG_CUBE_NFACES; f++)
-        for (size_t i = 0; i < nn; i++) {
-            double h = p->height[f][i];
-            mn = h < mn ? h : mn;
-            mx = h > mx ? h : mx;
-        }
+        for (int64_t y = 0; y < n; y++)
+            for (int64_t x = 0; x < n; x++) {
+                double h = p->height[f][y * n + x];
+                mn = h < mn ? h : mn;
+                mx = h > mx ? h : mx;
+            }
     *lo = mn, *hi = mx;
 }
 
@@ -455,12 +457,14 @@ pg_status pg_export_write(const pg_planet *p, const pg_export_opts *o, pg_planet
     pg_export_result local;
     if (!res) res = &local;
     memset(res, 0, sizeof *res);
-    pg_status st = pg_export_check_planet(o, p, err);
+    pg_status st = pg_export_check_opts(o, p->tiles, p->tile_size, err);
+    if (st != PG_OK) return st;
+    height_range(p, &res->height_min, &res->height_max);
+    st = check_relief(o, p, res->height_min, res->height_max, "planet", err);
     if (st != PG_OK) return st;
     int m = o->mesh_res ? o->mesh_res : pg_export_default_mesh_res(p->tiles, p->tile_size);
     res->mesh_res = m;
     res->exaggeration = o->exaggeration;
-    height_range(p, &res->height_min, &res->height_max);
     if (o->glb)
         st = export_glb(p, o, m, res->height_min, res->height_max, path_for, user, res, err);
     if (st == PG_OK && o->exr) st = export_exr(p, path_for, user, res, err);

@@ -285,11 +285,8 @@ static pg_status write_exports(pg_cli *cli, const gen_args *a, const pg_planet *
     o.glb = !a->no_glb;
     o.geotiff = a->geotiff;
     o.preview_width = (int)a->preview_width;
-    pg_status st = pg_export_check_opts(&o, p->tiles, p->tile_size, err);
-    if (!st) st = pg_export_check_planet(&o, p, err);
-    path_ctx pc = {cli, a->outdir};
-    if (!st) st = pg_export_write(p, &o, gen_path_for, &pc, NULL, err);
-    return st;
+    path_ctx pc = {cli, a->outdir}; /* pg_export_write checks the options and the relief */
+    return pg_export_write(p, &o, gen_path_for, &pc, NULL, err);
 }
 
 static void report_depressions(pg_json *o, const char *key, const pg_pits_stats *s) {
