@@ -211,12 +211,17 @@ static void face_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUB
     }
 }
 
+void pg_cube_locate(const pg_cube_grid *g, const double dir[3], int *face, double *fx, double *fy) {
+    double u, v;
+    pg_cube_from_dir(g->proj, dir, face, &u, &v);
+    *fx = (u + 1) / 2 * (double)g->n - 0.5, *fy = (v + 1) / 2 * (double)g->n - 0.5;
+}
+
 static void cube_sample_g(const pg_cube_grid *g, const float *const faces[PG_CUBE_NFACES], int ch,
                           const double dir[3], float *out) {
     int face;
-    double u, v;
-    pg_cube_from_dir(g->proj, dir, &face, &u, &v);
-    double fx = (u + 1) / 2 * (double)g->n - 0.5, fy = (v + 1) / 2 * (double)g->n - 0.5;
+    double fx, fy;
+    pg_cube_locate(g, dir, &face, &fx, &fy);
     face_sample_g(g, faces, ch, face, fx, fy, out);
 }
 

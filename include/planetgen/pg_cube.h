@@ -241,6 +241,10 @@ void pg_cube_sample_grid(const pg_cube_grid *g, const float *cube, int ch, const
  * direction: a texel of another face size maps to it linearly. */
 void pg_cube_sample_face(const pg_cube_grid *g, const float *cube, int ch, int face, double fx,
                          double fy, float *out);
+/* Where pg_cube_sample_grid samples a direction: its face and the point on it, in the
+ * texels of pg_cube_sample_face. Locating once and sampling several fields there gives
+ * the same values as sampling each at the direction, with one projection. */
+void pg_cube_locate(const pg_cube_grid *g, const double dir[3], int *face, double *fx, double *fy);
 /* A grid for pg_cube_sample_grid over a field of any n texels per face edge (one tile a
  * face; n need not be a power of two, as pg_cube_grid_init asks). */
 void pg_cube_sample_grid_init(pg_cube_grid *g, pg_cube_projection p, int64_t n);

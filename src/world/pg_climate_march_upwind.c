@@ -12,7 +12,8 @@
  *
  * The march. From the texel's direction, step backwards against the local wind by a
  * fixed angle (half a texel), re-evaluating the wind at every point, sampling the
- * elevation bilinearly (pg_cube_sample_grid, seamless across faces). It stops after a long
+ * elevation and the land mask bilinearly at one located point (pg_cube_locate, then
+ * pg_cube_sample_face: seamless across faces). It stops after a long
  * stretch of open sea (where the air is saturated: recharge has converged to within
  * e^-3) or at max_fetch_km. Then the column is integrated downwind, starting
  * saturated: over the sea moisture relaxes towards 1 over sea_recharge_km; over land
@@ -47,11 +48,27 @@ void pg_climate_wind(double lat_deg, double *east, double *north) {
     }
 }
 
+/* The wind at the unit vector p: pg_climate_wind at its latitude, which depends on the
+ * latitude only through its sign and its belt (|latitude| below 30, 30 to 60, from 60
+ * degrees). Away from those parallels the belt follows from p[2] against their sines
+ * and a latitude inside it stands in, without asin; within 1e-9 of them (asin's
+ * rounding is below 1e-15 there) the latitude itself is computed. So the wind is
+ * exactly pg_climate_wind's. */
+static void wind_at(const double p[3], double *we, double *wn) {
+    const double z = fmax(-1.0, fmin(1.0, p[2])), az = fabs(z);
+    const double s30 = 0.5, s60 = 0.86602540378443864676;
+    double lat;
+    if (fabs(az - s30) < 1e-9 || fabs(az - s60) < 1e-9)
+        lat = asin(z) * 180.0 / M_PI;
+    else
+        lat = z == 0 ? 0.0 : copysign(az < s30 ? 15.0 : (az < s60 ? 45.0 : 75.0), z);
+    pg_climate_wind(lat, we, wn);
+}
+
 /* Move the unit vector p by `step` radians against the wind. */
 static void step_upwind(double p[3], double step) {
-    double lat = asin(fmax(-1.0, fmin(1.0, p[2]))) * 180.0 / M_PI;
     double we, wn;
-    pg_climate_wind(lat, &we, &wn);
+    wind_at(p, &we, &wn);
     double r = sqrt(p[0] * p[0] + p[1] * p[1]);
     double e[3] = {0.0, 1.0, 0.0};
     if (r > 1e-12) {
@@ -93,8 +110,11 @@ void pg_climate_march(const pg_climate_params *p, const pg_cube_grid *g, const f
         step_upwind(q, step);
         k++;
         float lm;
-        pg_cube_sample_grid(g, elevation_m, 1, q, &h[k]);
-        pg_cube_sample_grid(g, land_mask, 1, q, &lm);
+        int face;
+        double fx, fy; /* one projection for both fields */
+        pg_cube_locate(g, q, &face, &fx, &fy);
+        pg_cube_sample_face(g, elevation_m, 1, face, fx, fy, &h[k]);
+        pg_cube_sample_face(g, land_mask, 1, face, fx, fy, &lm);
         land[k] = lm >= 0.5f;
         sea_run = land[k] ? 0.0 : sea_run + step_km;
     }
