@@ -72,6 +72,7 @@
 #define PG_PLATES_PROTECT 0.0015 /* share of texels below which a plate is protected */
 
 enum { PG_PLATES_EV_NONE, PG_PLATES_EV_ANDEAN, PG_PLATES_EV_ARC, PG_PLATES_EV_COLLISION };
+#define PG_PLATES_NKINDS (PG_PLATES_EV_COLLISION - PG_PLATES_EV_ANDEAN + 1) /* kinds of front */
 
 typedef struct pg_plates_body {
     uint8_t *alive, *crust;
@@ -90,10 +91,11 @@ typedef struct pg_plates_sim {
     uint8_t *ev;    /* world texel -> front event */
     uint8_t *loser; /* world texel -> a continental loser of a collision, or GAP */
     uint8_t *fresh; /* world texel -> new crust this step */
-    uint8_t *mark;  /* scratch, count */
+    uint8_t *mark;  /* scratch, NKINDS count (a slot per kind of front in the uplift) */
     uint8_t *snap;  /* alive flags of every plate before the update, np * count */
     uint8_t *fill;  /* closing marks, np * count */
-    float *dist, *uplift;
+    float *dist;    /* NKINDS count, as mark */
+    float *uplift;
 } pg_plates_sim;
 
 static void pg_plates_to_body(const pg_plates_sim *m, int k, const double p[3], double out[3]) {
@@ -216,20 +218,33 @@ static double pg_plates_col_profile(double d) {
     return (1 - s * s) * (1 - s * s);
 }
 
-/* Step 3: uplift rate (m/Myr) per world texel. */
+/* Step 3: uplift rate (m/Myr) per world texel. The distances to the three kinds of
+ * front are three independent floods (serial each), so they run at once, into their
+ * own slots of mark and dist; the uplift takes the maximum over kinds, in kind order. */
 static pg_status pg_plates_uplift(pg_plates_sim *m, const pg_plates_state *s, pg_error *err) {
     const pg_plates_grid *g = m->g;
-    memset(m->uplift, 0, sizeof(float) * (size_t)g->count);
-    for (int kind = PG_PLATES_EV_ANDEAN; kind <= PG_PLATES_EV_COLLISION; kind++) {
-        int any = 0;
-        for (int64_t p = 0; p < g->count; p++)
-            any |= (m->mark[p] = m->ev[p] == kind);
-        if (!any) continue;
-        pg_status st = pg_plates_grid_distance(g, m->mark, s->plate, m->dist, err);
-        if (st != PG_OK) return st;
+    const int64_t c = g->count;
+    memset(m->uplift, 0, sizeof(float) * (size_t)c);
+    int any[PG_PLATES_NKINDS] = {0};
+    for (int j = 0; j < PG_PLATES_NKINDS; j++)
+        for (int64_t p = 0; p < c; p++)
+            any[j] |= (m->mark[j * c + p] = m->ev[p] == PG_PLATES_EV_ANDEAN + j);
+    pg_status sk[PG_PLATES_NKINDS] = {PG_OK};
+    pg_error e[PG_PLATES_NKINDS];
+    memset(e, 0, sizeof e);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int j = 0; j < PG_PLATES_NKINDS; j++)
+        if (any[j])
+            sk[j] = pg_plates_grid_distance(g, m->mark + j * c, s->plate, m->dist + j * c, &e[j]);
+    for (int j = 0; j < PG_PLATES_NKINDS; j++)
+        if (sk[j] != PG_OK) return pg_error_set(err, sk[j], "%s", e[j].msg);
+    for (int j = 0; j < PG_PLATES_NKINDS; j++) {
+        if (!any[j]) continue;
+        const int kind = PG_PLATES_EV_ANDEAN + j;
+        const float *dist = m->dist + j * c;
 #pragma omp parallel for schedule(static)
-        for (int64_t p = 0; p < g->count; p++) {
-            double d = m->dist[p];
+        for (int64_t p = 0; p < c; p++) {
+            double d = dist[p];
             if (!isfinite(d)) continue;
             double r = kind == PG_PLATES_EV_COLLISION
                            ? PG_PLATES_COL_RATE * pg_plates_col_profile(d)
@@ -372,10 +387,10 @@ static pg_status pg_plates_sim_alloc(pg_plates_sim *m, pg_error *err) {
     m->ev = malloc(c);
     m->loser = malloc(c);
     m->fresh = malloc(c);
-    m->mark = malloc(c);
+    m->mark = malloc(PG_PLATES_NKINDS * c);
     m->snap = malloc(np * c);
     m->fill = malloc(np * c);
-    m->dist = malloc(sizeof(float) * c);
+    m->dist = malloc(sizeof(float) * PG_PLATES_NKINDS * c);
     m->uplift = malloc(sizeof(float) * c);
     int ok = m->body && m->wbody && m->ev && m->loser && m->fresh && m->mark && m->snap &&
              m->fill && m->dist && m->uplift;

@@ -118,7 +118,7 @@ pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, p
                            const pg_plates_state *s, pg_error *err) {
     size_t c = (size_t)g->count;
     float *margin = malloc(sizeof(float) * c), *div = malloc(sizeof(float) * c);
-    uint8_t *src = malloc(c);
+    uint8_t *src = malloc(3 * c);
     double(*omega)[3] = malloc(sizeof *omega * (size_t)p->plates);
     pg_status st = PG_OK;
     if (!margin || !div || !src || !omega) {
@@ -132,15 +132,23 @@ pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, p
         memcpy(omega[k], w->plates[k].omega, sizeof omega[k]);
     st = pg_plates_classify(g->n, g->proj, w->plate, p->plates, (const double(*)[3])omega,
                             w->boundary, err);
-    for (int64_t t = 0; t < g->count; t++)
+    /* three independent floods (serial each), at once: from the convergent and the
+     * divergent boundaries and from the ocean */
+    for (int64_t t = 0; t < g->count; t++) {
         src[t] = w->boundary[t] == PG_PLATES_CONVERGENT;
-    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, w->convergent_km, err);
-    for (int64_t t = 0; t < g->count; t++)
-        src[t] = w->boundary[t] == PG_PLATES_DIVERGENT;
-    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, div, err);
-    for (int64_t t = 0; t < g->count; t++)
-        src[t] = w->crust[t] == PG_PLATES_OCEANIC;
-    if (st == PG_OK) st = pg_plates_grid_distance(g, src, NULL, margin, err);
+        src[c + t] = w->boundary[t] == PG_PLATES_DIVERGENT;
+        src[2 * c + t] = w->crust[t] == PG_PLATES_OCEANIC;
+    }
+    if (st != PG_OK) goto done;
+    float *to[3] = {w->convergent_km, div, margin};
+    pg_status sk[3];
+    pg_error e[3];
+    memset(e, 0, sizeof e);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int j = 0; j < 3; j++)
+        sk[j] = pg_plates_grid_distance(g, src + j * c, NULL, to[j], &e[j]);
+    for (int j = 0; st == PG_OK && j < 3; j++)
+        if (sk[j] != PG_OK) st = pg_error_set(err, sk[j], "%s", e[j].msg);
     if (st != PG_OK) goto done;
 #pragma omp parallel for schedule(static)
     for (int64_t t = 0; t < g->count; t++)
