@@ -1,12 +1,14 @@
 /* test_cube_projection.c - face frames and the three projections: frames are
  * right-handed with +Z north, forward/inverse round trips stay below 1e-12 both
- * ways on dense grids including edges and corners, and the equal-area map really is
- * equal-area (finite-difference Jacobian). */
+ * ways on dense grids including edges and corners, the equal-area map really is
+ * equal-area (finite-difference Jacobian), and the texel finder places every direction
+ * in the texel pg_cube_from_dir's coordinates give, on and next to the cell edges too. */
 #include "pg_test.h"
 
 #include "planetgen/pg_cube.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define PG_PI 3.14159265358979323846
@@ -139,6 +141,57 @@ static void test_projection_names(void **state) {
     assert_non_null(strstr(err.msg, "--projection"));
 }
 
+/* The texel of pg_cube_from_dir's (u, v), as the finder documents it. */
+static int64_t texel_of(pg_cube_projection p, int64_t n, const double d[3]) {
+    int face;
+    double u, v;
+    pg_cube_from_dir(p, d, &face, &u, &v);
+    int64_t x = (int64_t)floor((u + 1) * 0.5 * (double)n), y = (int64_t)floor((v + 1) * 0.5 * n);
+    x = x < 0 ? 0 : (x >= n ? n - 1 : x);
+    y = y < 0 ? 0 : (y >= n ? n - 1 : y);
+    return ((int64_t)face * n + y) * n + x;
+}
+
+/* Random directions, every texel corner (cell edges meet there; seams and cube
+ * vertices among them), and each corner nudged by a few ulps in every component. */
+static void test_texel_finder(void **state) {
+    (void)state;
+    const pg_cube_projection projs[3] = {PG_CUBE_GNOMONIC, PG_CUBE_EQUIANGULAR, PG_CUBE_EQUALAREA};
+    const int64_t sizes[3] = {1, 7, 128};
+    uint64_t rng = 12345, checked = 0;
+    for (int pi = 0; pi < 3; pi++)
+        for (int si = 0; si < 3; si++) {
+            const int64_t n = sizes[si];
+            pg_cube_texel_finder f;
+            pg_error err = {0};
+            assert_int_equal(pg_cube_texel_finder_init(&f, projs[pi], n, &err), PG_OK);
+            assert_true((f.edge == NULL) == (projs[pi] == PG_CUBE_EQUALAREA));
+            for (int i = 0; i < 200000; i++, checked++) {
+                double d[3];
+                for (int k = 0; k < 3; k++) {
+                    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
+                    d[k] = (double)(rng >> 11) / 9007199254740992.0 * 2 - 1;
+                }
+                assert_int_equal(pg_cube_texel_find(&f, d), texel_of(projs[pi], n, d));
+            }
+            for (int face = 0; face < 6; face++)
+                for (int64_t cy = 0; cy <= n; cy++)
+                    for (int64_t cx = 0; cx <= n; cx++) {
+                        double c[3];
+                        pg_cube_to_dir(projs[pi], face, 2.0 * cx / n - 1, 2.0 * cy / n - 1, c);
+                        for (int k = 0; k < 27; k++, checked++) {
+                            double d[3] = {c[0], c[1], c[2]};
+                            for (int a = 0, m = k; a < 3; a++, m /= 3)
+                                for (int step = 0; step < 2 && m % 3; step++)
+                                    d[a] = nextafter(d[a], m % 3 == 1 ? 2.0 : -2.0);
+                            assert_int_equal(pg_cube_texel_find(&f, d), texel_of(projs[pi], n, d));
+                        }
+                    }
+            pg_cube_texel_finder_free(&f);
+        }
+    printf("texel finder: %llu directions as pg_cube_from_dir\n", (unsigned long long)checked);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frames),
@@ -146,6 +199,7 @@ int main(void) {
         cmocka_unit_test(test_inverse_round_trip),
         cmocka_unit_test(test_equal_area_jacobian),
         cmocka_unit_test(test_projection_names),
+        cmocka_unit_test(test_texel_finder),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

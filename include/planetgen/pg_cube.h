@@ -86,6 +86,24 @@ void pg_cube_to_dir(pg_cube_projection p, int face, double u, double v, double d
  * between faces (edges, vertices) go to the lowest face id. */
 void pg_cube_from_dir(pg_cube_projection p, const double dir[3], int *face, double *u, double *v);
 
+/* The texel of an n x n face grid whose square holds a direction: the global id
+ * (face n + y) n + x of x = floor((u + 1) n / 2), y likewise, from pg_cube_from_dir's
+ * (u, v), clamped to the face. For the gnomonic and equi-angular projections the finder
+ * tabulates the cells' edges in u's tangent coordinate l_u / l_n (a line on the face),
+ * so a direction is placed by comparisons instead of two atan2; within 1e-9 of an edge
+ * it takes pg_cube_from_dir's route, so the texel is always the same. The equal-area
+ * projection always takes that route. */
+typedef struct pg_cube_texel_finder {
+    pg_cube_projection proj;
+    int64_t n;
+    double *edge;   /* n + 1 edges in the tangent coordinate; NULL: pg_cube_from_dir */
+    int64_t *start; /* 2n buckets over [-1, 1]: the cell of each one's lower end */
+} pg_cube_texel_finder;
+pg_status pg_cube_texel_finder_init(pg_cube_texel_finder *f, pg_cube_projection p, int64_t n,
+                                    pg_error *err);
+void pg_cube_texel_finder_free(pg_cube_texel_finder *f);
+int64_t pg_cube_texel_find(const pg_cube_texel_finder *f, const double dir[3]);
+
 /* ---- tile grid ---- */
 
 typedef struct pg_cube_xform {

@@ -47,7 +47,8 @@ pg_status pg_plates_grid_init(pg_plates_grid *g, int64_t n, pg_cube_projection p
     g->area = malloc(sizeof(float) * (size_t)g->count);
     g->nbr = malloc(sizeof(int64_t) * 8 * (size_t)g->count);
     g->nlen = malloc(sizeof(float) * 8 * (size_t)g->count);
-    if (!g->dir || !g->area || !g->nbr || !g->nlen) {
+    pg_status fs = pg_cube_texel_finder_init(&g->find, proj, n, err);
+    if (!g->dir || !g->area || !g->nbr || !g->nlen || fs) {
         pg_plates_grid_free(g);
         return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for a %lld^2 cube grid",
                             (long long)n);
@@ -81,18 +82,14 @@ void pg_plates_grid_free(pg_plates_grid *g) {
     free(g->area);
     free(g->nbr);
     free(g->nlen);
+    pg_cube_texel_finder_free(&g->find);
     memset(g, 0, sizeof *g);
 }
 
 int64_t pg_plates_grid_nearest(const pg_plates_grid *g, const double d[3]) {
-    int face;
-    double u, v;
-    pg_cube_from_dir(g->proj, d, &face, &u, &v);
-    int64_t x = (int64_t)floor((u + 1) * 0.5 * (double)g->n);
-    int64_t y = (int64_t)floor((v + 1) * 0.5 * (double)g->n);
-    x = x < 0 ? 0 : (x >= g->n ? g->n - 1 : x);
-    y = y < 0 ? 0 : (y >= g->n ? g->n - 1 : y);
-    return ((int64_t)face * g->n + y) * g->n + x;
+    if (g->find.n == g->n) return pg_cube_texel_find(&g->find, d);
+    pg_cube_texel_finder f = {g->proj, g->n, NULL, NULL}; /* a grid without its tables */
+    return pg_cube_texel_find(&f, d);
 }
 
 /* A binary min-heap of (distance, texel); ties order by texel id so pops are unique. */

@@ -45,6 +45,7 @@ typedef struct pg_plates_grid {
     float *area;
     int64_t *nbr;
     float *nlen;
+    pg_cube_texel_finder find; /* pg_plates_grid_nearest's tables */
 } pg_plates_grid;
 
 /* ---- hashing and noise (pg_plates_noise.c) ---- */
