@@ -29,9 +29,13 @@ pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err) {
 
 /* The blend on n texels of the reconstruction R, the offsets Vc and the guide G (as V
  * += w (G - R), so that R stays E_s(S) + V). */
+float pg_ps_guide_w(const pg_ps_ctx *c, int scale) {
+    return (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
+}
+
 void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc,
                        const float *G) {
-    float w = (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
+    float w = pg_ps_guide_w(c, scale);
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) {
         float d = w * (G[i] - R[i]);

@@ -171,6 +171,8 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
 /* --------------------------- pg_planet_synth_guide.c --------------------------- */
 
 pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err);
+/* The blend weight w of the level at `scale` (pg_guide_weight, as a float). */
+float pg_ps_guide_w(const pg_ps_ctx *c, int scale);
 void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc,
                        const float *G);
 

@@ -118,9 +118,41 @@ static pg_status gainpit_dist(pg_ps_ctx *c, const pg_ps_level *L, const level_ro
  * tiles) every process gathers the level and runs it whole (deterministic, so all
  * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
  * are refreshed by the next exchange before anything reads them. */
+/* The guide blend alone (a level without Gain-pit): R, the blend and the stored offsets
+ * fused into one pass over the visited texels, V <- V + w (G - (E_s(S) + V)), the same
+ * float operations in the same order as the three passes, without their two level-sized
+ * buffers (whose fresh pages cost more than the blend). */
+#define GUIDE_AHEAD 8
+
+static void guide_only(const pg_ps_ctx *c, int scale, pg_ps_level *L, const level_rows *lr) {
+    const int r = L->r;
+    const float w = pg_ps_guide_w(c, scale);
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < 6 * r; row++) {
+        if (!row_visited(lr, r, row)) continue;
+        int f = row / r, y = row % r;
+        for (int x = 0; x < r; x++) {
+            if (lr->owned_only && !pg_ps_owned_at(c, r, f, x, y)) continue;
+            size_t i = pg_ps_at(L, f, x, y), j = ((size_t)f * r + y) * r + x;
+            if (x + GUIDE_AHEAD < r) /* E_s a few texels on: a random read */
+                __builtin_prefetch(c->ex->app[scale] +
+                                   pg_synth_texel(c->ex, L->S[i + GUIDE_AHEAD]) *
+                                       PG_SYNTH_MAX_DIMS);
+            float R = pg_synth_level_height(c->ex, scale, L->S[i]) + L->V[i];
+            float d = w * (c->guide[j] - R);
+            L->V[i] = L->V[i] + d;
+        }
+    }
+}
+
 pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
     bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
     if (!pits && !c->guide) return PG_OK;
+    if (!pits) {
+        const level_rows lr = rows_of(c, L->r, c->p->dist != NULL);
+        guide_only(c, scale, L, &lr);
+        return PG_OK;
+    }
     const int r = L->r;
     bool gather = pits && !pg_ps_dist_pits(c, r);
     pg_status xs = gather ? pg_ps_exchange(c, scale, L, -1, err) : PG_OK;
