@@ -20,20 +20,36 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
     const pg_synth_exemplar *ex = c->ex;
     c->etype = pg_types_exemplar(ex);
     if (!c->etype) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+    /* The valid lists in texel order, built in chunks at once: each chunk counts its
+     * texels of each type, the counts' prefix sums place each chunk's run in the lists,
+     * and the chunks fill their runs. */
     size_t ne = (size_t)ex->nfaces * ex->face_size * ex->face_size;
-    for (size_t i = 0; i < ne; i++)
-        c->nvalid[c->etype[i]]++;
+    enum { CHUNKS = 64 };
+    size_t(*at)[PG_TYPE_COUNT] = calloc(CHUNKS, sizeof *at);
+    if (!at) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < CHUNKS; k++)
+        for (size_t i = ne * k / CHUNKS; i < ne * (k + 1) / CHUNKS; i++)
+            at[k][c->etype[i]]++;
     for (int t = 0; t < PG_TYPE_COUNT; t++) {
-        c->valid[t] = malloc((c->nvalid[t] + 1) * sizeof(uint32_t));
-        if (!c->valid[t]) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
-        c->nvalid[t] = 0;
+        size_t sum = 0;
+        for (int k = 0; k < CHUNKS; k++) {
+            size_t n = at[k][t];
+            at[k][t] = sum, sum += n;
+        }
+        c->nvalid[t] = sum;
+        c->valid[t] = malloc((sum + 1) * sizeof(uint32_t));
+        if (!c->valid[t]) return free(at), pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
     }
     const int E = ex->face_size;
-    for (size_t i = 0; i < ne; i++) {
-        int t = c->etype[i];
-        c->valid[t][c->nvalid[t]++] =
-            pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
-    }
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < CHUNKS; k++)
+        for (size_t i = ne * k / CHUNKS; i < ne * (k + 1) / CHUNKS; i++) {
+            int t = c->etype[i];
+            c->valid[t][at[k][t]++] =
+                pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
+        }
+    free(at);
     /* every mask in use must leave valid texels */
     uint8_t masks = 0;
     for (int t = 0; t < PG_TYPE_COUNT; t++)
@@ -99,6 +115,9 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
     return PG_OK;
 }
 
+/* How many texels of the class ahead the fix-up's check prefetches its type. */
+#define TYPES_AHEAD 8
+
 static bool allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
     return (m >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
 }
@@ -134,9 +153,13 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
     for (int y = 0; y < v->h; y++) {
         long gy = v->gy + y;
         if ((int)(gy & 1) != py) continue;
-        for (int x = (int)((v->gx & 1) != px); x < v->w; x += 2) {
+        const int x0 = (int)((v->gx & 1) != px);
+        for (int x = x0; x < v->w; x += 2) {
             long gx = v->gx + x;
             ptrdiff_t i = (ptrdiff_t)y * v->stride + x;
+            /* the exemplar types of the texels a few steps on: random reads */
+            if (x + 2 * TYPES_AHEAD < v->w)
+                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, v->S[i + 2 * TYPES_AHEAD]));
             uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
             if (allowed(c, m, v->S[i])) continue;
             float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i], best = INFINITY;

@@ -173,17 +173,22 @@ uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y) {
     const uint64_t seed = c->p->synth.seed;
     const ps_feat t = target(c->p->world, r, f, x, y);
     double best = INFINITY;
-    uint32_t q = 0;
+    uint32_t q = 0, cand[PS_WORLD_DRAWS];
+    size_t cell[PS_WORLD_DRAWS];
+    /* the draws first, their level heights prefetched (random reads), then the match */
     for (int k = 0; k < PS_WORLD_DRAWS; k++) {
         uint32_t a = pg_synth_hash(seed, s, f, x, y, 64 + 2 * k);
         uint32_t bb = pg_synth_hash(seed, s, f, x, y, 65 + 2 * k);
         int ef = (int)(a % 6u), u = (int)((a >> 3) % (uint32_t)E), v = (int)(bb % (uint32_t)E);
-        size_t ci = ((size_t)ef * PS_WORLD_EXEMPLAR_N + v / b) * PS_WORLD_EXEMPLAR_N + u / b;
-        uint32_t cand = pg_synth_pack(ef, u, v);
-        ps_feat e = {pg_synth_level_height(ex, s, cand) - ex->sea_level, c->world_t[ci],
-                     c->world_p[ci]};
+        cell[k] = ((size_t)ef * PS_WORLD_EXEMPLAR_N + v / b) * PS_WORLD_EXEMPLAR_N + u / b;
+        cand[k] = pg_synth_pack(ef, u, v);
+        __builtin_prefetch(ex->app[s] + pg_synth_texel(ex, cand[k]) * PG_SYNTH_MAX_DIMS);
+    }
+    for (int k = 0; k < PS_WORLD_DRAWS; k++) {
+        ps_feat e = {pg_synth_level_height(ex, s, cand[k]) - ex->sea_level, c->world_t[cell[k]],
+                     c->world_p[cell[k]]};
         double d = distance(e, t);
-        if (d < best) best = d, q = cand;
+        if (d < best) best = d, q = cand[k];
     }
     return q;
 }
