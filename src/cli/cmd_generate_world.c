@@ -94,14 +94,7 @@ pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_wo
     return st;
 }
 
-static pg_status write_png(pg_cli *cli, const char *dir, const char *name, pg_image *img,
-                           pg_status st, pg_error *err) {
-    if (!st) st = pg_image_write_png(pg_cli_output_path(cli, dir, name), img, 8, err);
-    pg_image_free(img);
-    return st;
-}
-
-static pg_status write_exr(pg_cli *cli, const char *dir, const gen_world *w, pg_error *err) {
+static pg_status write_exr(const char *path, const gen_world *w, pg_error *err) {
     const int64_t n = w->plates.n;
     const size_t nn = (size_t)n * n;
     const float *src[4] = {w->plates.elevation_m, w->climate.temperature_c,
@@ -118,9 +111,7 @@ static pg_status write_exr(pg_cli *cli, const char *dir, const gen_world *w, pg_
             for (int k = 0; k < 4; k++)
                 parts[f].data[i * 4 + k] = src[k][(size_t)f * nn + i];
     }
-    if (!st)
-        st = pg_exr_write_parts(pg_cli_output_path(cli, dir, "world.exr"), PG_CUBE_NFACES, names,
-                                parts, channels, err);
+    if (!st) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, channels, err);
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         pg_image_free(&parts[f]);
     return st;
@@ -142,14 +133,31 @@ void gen_world_report(pg_cli *cli, const gen_world *w, pg_json *res) {
     pg_json_set_number(o, "high_land_fraction", s->high_land_fraction);
 }
 
+/* plates.png, climate.png and world.exr: the two maps rendered (each render is parallel
+ * inside), then the three files encoded at once, since each encoder is single-threaded.
+ * The first failure in that order is reported. */
 pg_status gen_world_write(pg_cli *cli, const gen_args *a, const gen_world *w, pg_error *err) {
-    pg_image img = {0};
-    pg_status st = pg_plates_render_plates(&w->plates, GEN_WORLD_PREVIEW_WIDTH, &img, err);
-    st = write_png(cli, a->outdir, "plates.png", &img, st, err);
-    if (!st) {
+    pg_image img[2] = {{0}, {0}};
+    pg_status st = pg_plates_render_plates(&w->plates, GEN_WORLD_PREVIEW_WIDTH, &img[0], err);
+    if (!st)
         st = pg_climate_render_preview(&w->climate, w->plates.elevation_m, GEN_WORLD_PREVIEW_WIDTH,
-                                       &img, err);
-        st = write_png(cli, a->outdir, "climate.png", &img, st, err);
+                                       &img[1], err);
+    const char *names[3] = {"plates.png", "climate.png", "world.exr"}, *paths[3] = {0};
+    for (int k = 0; !st && k < 3; k++)
+        if (!(paths[k] = pg_cli_output_path(cli, a->outdir, names[k])))
+            st = pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", names[k]);
+    if (!st) {
+        pg_status sk[3];
+        pg_error e[3];
+        memset(e, 0, sizeof e);
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int k = 0; k < 3; k++)
+            sk[k] = k < 2 ? pg_image_write_png(paths[k], &img[k], 8, &e[k])
+                          : write_exr(paths[k], w, &e[k]);
+        for (int k = 0; !st && k < 3; k++)
+            if (sk[k]) st = pg_error_set(err, sk[k], "%s", e[k].msg);
     }
-    return st ? st : write_exr(cli, a->outdir, w, err);
+    pg_image_free(&img[0]);
+    pg_image_free(&img[1]);
+    return st;
 }

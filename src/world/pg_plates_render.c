@@ -78,6 +78,10 @@ static pg_status pg_plates_render(const pg_plates_world *w, int width, int plate
     pg_status st = pg_image_alloc(out, width, height, 3, err);
     if (st != PG_OK) return st;
     pg_plates_grid g = {.n = w->n, .proj = w->proj}; /* only for nearest-texel lookups */
+    if ((st = pg_cube_texel_finder_init(&g.find, w->proj, w->n, err)) != PG_OK) {
+        pg_image_free(out);
+        return st;
+    }
 #pragma omp parallel for schedule(static)
     for (int j = 0; j < height; j++) {
         double lat = (90 - (j + 0.5) * 180.0 / height) * PG_PLATES_PI / 180;
@@ -102,6 +106,7 @@ static pg_status pg_plates_render(const pg_plates_world *w, int width, int plate
                     px[k] = kind[w->boundary[t] & 3][k];
         }
     }
+    pg_cube_texel_finder_free(&g.find);
     return PG_OK;
 }
 
