@@ -141,15 +141,6 @@ static int part_face(const glb_part *gp, int k) {
     return gp->mesh->nprims == 1 ? gp->mesh->face : k;
 }
 
-static pg_status write_bytes(const char *path, const uint8_t *b, size_t n, pg_error *err) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write", path);
-    size_t w = fwrite(b, 1, n, f);
-    if (fclose(f) != 0 || w != n)
-        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
-    return PG_OK;
-}
-
 /* Name slot k, the image of primitive k/3. */
 static void name_slot(const glb_part *gp, glb_images *gi, int k, const char *kind,
                       pg_export_codec codec) {
@@ -337,7 +328,7 @@ static pg_status write_glb(const glb_part *gp, const pg_export_opts *o, double l
         if (!o->external_textures || gp->tag[0]) continue; /* a tile's images: embedded */
         gi->img[k].uri = gi->uris[k];
         const char *path = path_for(gi->uris[k], user);
-        st = path ? write_bytes(path, gi->bytes[k], gi->img[k].size, err)
+        st = path ? pg_write_file(path, gi->bytes[k], gi->img[k].size, err)
                   : pg_error_set(err, PG_ERR_NOMEM, "out of memory");
         res->nfiles++;
     }

@@ -45,8 +45,8 @@ static double vertex_height(const nm_ctx *c, int face, int i, int j) {
 }
 
 /* Tabulate the vertex heights of the quads that texels [x0 - 1, x0 + w]^2 of the face
- * fall in (false when out of memory: then every texel looks them up). */
-static bool vertex_table(nm_ctx *c, int face, int64_t x0, int64_t y0, int64_t w) {
+ * fall in (out of memory: no table, and every texel looks them up). */
+static void vertex_table(nm_ctx *c, int face, int64_t x0, int64_t y0, int64_t w) {
     const int m = c->mesh->m;
     int64_t lo[2] = {x0 - 1, y0 - 1}, hi[2] = {x0 + w, y0 + w};
     int a[2], b[2];
@@ -57,12 +57,11 @@ static bool vertex_table(nm_ctx *c, int face, int64_t x0, int64_t y0, int64_t w)
     }
     c->vw = b[0] - a[0] + 1, c->vh = b[1] - a[1] + 1, c->i0 = a[0], c->j0 = a[1];
     double *t = malloc((size_t)c->vw * c->vh * sizeof *t);
-    if (!t) return false;
+    if (!t) return;
     for (int j = 0; j < c->vh; j++)
         for (int i = 0; i < c->vw; i++)
             t[(size_t)j * c->vw + i] = vertex_height(c, face, c->i0 + i, c->j0 + j);
     c->vface = face, c->vt = t;
-    return true;
 }
 
 /* The mesh's interpolated height at texel centre (x, y) of a face. */

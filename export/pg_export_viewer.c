@@ -7,9 +7,7 @@
 #include "pg_export_viewer_assets.h"
 #include "planetgen/pg_json.h"
 
-#include <errno.h>
 #include <stdio.h>
-#include <string.h>
 
 bool pg_export_viewer_available(void) {
     return pg_viewer_has_three != 0;
@@ -19,12 +17,7 @@ static pg_status write_asset(const pg_viewer_asset *a, pg_planet_path_fn path_fo
                              pg_error *err) {
     const char *path = path_for(a->name, user);
     if (!path) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", a->name);
-    FILE *f = fopen(path, "wb");
-    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-    size_t n = fwrite(a->data, 1, a->size, f);
-    if (fclose(f) != 0 || n != a->size)
-        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
-    return PG_OK;
+    return pg_write_file(path, a->data, a->size, err);
 }
 
 /* The page's files, then viewer.json naming one .glb (glb_url) or a tile set (urls). */

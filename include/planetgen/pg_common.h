@@ -47,6 +47,10 @@ int pg_status_exit_code(pg_status st);
 
 const char *pg_status_name(pg_status st);
 
+/* Write n bytes to a new file at path (replacing it). IO naming the path when it cannot
+ * be opened, or when the write or the close falls short (a full disk shows there). */
+pg_status pg_write_file(const char *path, const void *data, size_t n, pg_error *err);
+
 /* Library version, e.g. "0.1.0". */
 const char *pg_version(void);
 

@@ -503,16 +503,16 @@ static int run(pg_cli *cli, const gen_args *a, gen_inputs *in, gen_mpi *g, int *
     } else {
         pg_cli_stage_begin(cli, "write planet");
         path_ctx pc = {cli, a->outdir};
-        pg_planet_encoded enc;
+        pg_planet_encoded enc = {0}; /* kept only for planet.glb */
         st = pg_planet_save_encoded(&planet, gen_path_for, &pc, a->no_glb ? NULL : &enc, &err);
         pg_cli_stage_end(cli);
         if (!st && in->has_world) st = gen_world_write(cli, a, &in->world, &err);
         if (!st) {
             pg_cli_stage_begin(cli, "write previews and globe");
-            st = write_exports(cli, a, &planet, a->no_glb ? NULL : &enc, &err);
+            st = write_exports(cli, a, &planet, &enc, &err);
             pg_cli_stage_end(cli);
         }
-        if (!a->no_glb) pg_planet_encoded_free(&enc);
+        pg_planet_encoded_free(&enc);
         if (st) rc = pg_cli_fail(cli, &err);
     }
     pg_planet_free(&planet);

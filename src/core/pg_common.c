@@ -1,8 +1,10 @@
 /* pg_common.c - error context helpers and version; see pg_common.h. */
 #include "planetgen/pg_common.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 pg_status pg_error_set(pg_error *err, pg_status st, const char *fmt, ...) {
     if (!err || err->status != PG_OK) return st;
@@ -45,4 +47,13 @@ const char *pg_status_name(pg_status st) {
 
 const char *pg_version(void) {
     return PG_VERSION_STRING;
+}
+
+pg_status pg_write_file(const char *path, const void *data, size_t n, pg_error *err) {
+    FILE *f = fopen(path, "wb");
+    if (!f) return pg_error_set(err, PG_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    size_t w = fwrite(data, 1, n, f);
+    if (fclose(f) != 0 || w != n)
+        return pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
+    return PG_OK;
 }

@@ -166,13 +166,7 @@ static pg_status save_albedo_face(const pg_planet *p, int f, const char *path, u
     size_t n = 0;
     st = pg_image_encode_png(&img, 8, &b, &n, err);
     pg_image_free(&img);
-    FILE *fp = st == PG_OK ? fopen(path, "wb") : NULL;
-    if (st == PG_OK && !fp) st = pg_error_set(err, PG_ERR_IO, "%s: cannot write", path);
-    if (fp) {
-        size_t w = fwrite(b, 1, n, fp);
-        if (fclose(fp) != 0 || w != n)
-            st = pg_error_set(err, PG_ERR_IO, "%s: write failed (disk full?)", path);
-    }
+    if (st == PG_OK) st = pg_write_file(path, b, n, err);
     if (st == PG_OK && keep) {
         *keep = b, *keep_size = n;
         return PG_OK;

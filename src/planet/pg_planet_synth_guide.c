@@ -27,12 +27,12 @@ pg_status pg_ps_guide_level(pg_ps_ctx *c, int r, pg_error *err) {
     return st;
 }
 
-/* The blend on n texels of the reconstruction R, the offsets Vc and the guide G (as V
- * += w (G - R), so that R stays E_s(S) + V). */
 float pg_ps_guide_w(const pg_ps_ctx *c, int scale) {
     return (float)pg_guide_weight(c->p->guide_alpha, c->s_top, scale);
 }
 
+/* The blend on n texels of the reconstruction R, the offsets Vc and the guide G (as V
+ * += w (G - R), so that R stays E_s(S) + V). */
 void pg_ps_guide_blend(const pg_ps_ctx *c, int scale, size_t n, float *R, float *Vc,
                        const float *G) {
     float w = pg_ps_guide_w(c, scale);

@@ -112,12 +112,6 @@ static pg_status gainpit_dist(pg_ps_ctx *c, const pg_ps_level *L, const level_ro
     return st;
 }
 
-/* After a correction pass: the guide blend R <- w G + (1 - w) R (as V += w (G - R)),
- * then Gain-pit (R' pit-free, V += R' - R). Distributed, Gain-pit runs through the
- * pits hook on the owned tiles; without the hook (or at levels too coarse for the
- * tiles) every process gathers the level and runs it whole (deterministic, so all
- * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
- * are refreshed by the next exchange before anything reads them. */
 /* The guide blend alone (a level without Gain-pit): R, the blend and the stored offsets
  * fused into one pass over the visited texels, V <- V + w (G - (E_s(S) + V)), the same
  * float operations in the same order as the three passes, without their two level-sized
@@ -145,6 +139,12 @@ static void guide_only(const pg_ps_ctx *c, int scale, pg_ps_level *L, const leve
     }
 }
 
+/* After a correction pass: the guide blend R <- w G + (1 - w) R (as V += w (G - R)),
+ * then Gain-pit (R' pit-free, V += R' - R). Distributed, Gain-pit runs through the
+ * pits hook on the owned tiles; without the hook (or at levels too coarse for the
+ * tiles) every process gathers the level and runs it whole (deterministic, so all
+ * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
+ * are refreshed by the next exchange before anything reads them. */
 pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
     bool pits = c->p->pits && scale >= c->p->pit_skip_levels;
     if (!pits && !c->guide) return PG_OK;
