@@ -34,10 +34,13 @@ void pg_plates_random_dir(uint64_t seed, uint64_t stream, uint64_t index, double
     out[2] = z;
 }
 
-static double pg_plates_lattice(uint64_t seed, uint64_t stream, int64_t x, int64_t y, int64_t z) {
+/* The lattice value at (x, y, z): 2 pg_plates_unit(seed, stream, i) - 1 for the point's
+ * index i, with key = pg_plates_mix(pg_plates_mix(seed) ^ stream) computed once per
+ * noise evaluation (the first two rounds of pg_plates_hash). */
+static double pg_plates_lattice(uint64_t key, int64_t x, int64_t y, int64_t z) {
     uint64_t i = (uint64_t)x * UINT64_C(73856093) ^ (uint64_t)y * UINT64_C(19349663) ^
                  (uint64_t)z * UINT64_C(83492791);
-    return 2 * pg_plates_unit(seed, stream, i) - 1;
+    return 2 * ((double)(pg_plates_mix(key ^ i) >> 11) * (1.0 / 9007199254740992.0)) - 1;
 }
 
 static double pg_plates_fade(double t) {
@@ -52,11 +55,12 @@ static double pg_plates_value(uint64_t seed, uint64_t stream, const double p[3])
         c[k] = (int64_t)fl[k];
         f[k] = pg_plates_fade(p[k] - fl[k]);
     }
+    const uint64_t key = pg_plates_mix(pg_plates_mix(seed) ^ stream);
     double acc = 0;
     for (int corner = 0; corner < 8; corner++) {
         int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
         double w = (dx ? f[0] : 1 - f[0]) * (dy ? f[1] : 1 - f[1]) * (dz ? f[2] : 1 - f[2]);
-        acc += w * pg_plates_lattice(seed, stream, c[0] + dx, c[1] + dy, c[2] + dz);
+        acc += w * pg_plates_lattice(key, c[0] + dx, c[1] + dy, c[2] + dz);
     }
     return acc;
 }
