@@ -2,7 +2,9 @@
  * whose answer is known: a field that is a smooth function of direction has no seams
  * (face_seam_ratio and tile_edge_ratio ~1); the same field with one face turned a
  * quarter about its centre breaks the four seams of that face; tiles offset by their
- * own constants show at tile edges and not at face seams. */
+ * own constants show at tile edges and not at face seams; a seamless field whose detail
+ * is stronger next to the face edges than inside fools the pooled ratio and not the
+ * local one. */
 #include "pg_test.h"
 
 #include "planetgen/pg_inspect.h"
@@ -121,9 +123,54 @@ static void test_offset_tiles_show_at_tile_edges(void **s) {
     pg_planet_free(&p);
 }
 
+/* Scale the detail of every field by a weight of the distance to the face's nearest
+ * edge (the same on both sides of a seam, so the field stays seamless): w_edge up to a
+ * tenth of the face in (wider than the local ratio's band), then a ramp to w_inside a
+ * quarter of the face in. */
+static void weight_by_edge(pg_planet *p, double w_edge, double w_inside) {
+    int64_t n = p->n;
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t y = 0; y < n; y++)
+            for (int64_t x = 0; x < n; x++) {
+                double u = (2.0 * x + 1) / n - 1, v = (2.0 * y + 1) / n - 1;
+                double e = 1 - fmax(fabs(u), fabs(v)), t = fmin(fmax(e - 0.2, 0) / 0.3, 1.0);
+                double w = w_edge + (w_inside - w_edge) * t;
+                size_t i = (size_t)(y * n + x);
+                p->height[f][i] *= (float)w;
+                for (int c = 0; c < 3; c++)
+                    p->albedo[f][3 * i + c] = (float)(0.5 + w * (p->albedo[f][3 * i + c] - 0.5));
+            }
+}
+
+static void test_local_ratio_ignores_where_detail_is(void **s) {
+    (void)s;
+    const double w[2][2] = {{3.0, 0.5}, {0.5, 3.0}}; /* busy edges; calm edges */
+    for (int k = 0; k < 2; k++) {
+        pg_planet p;
+        make_planet(&p, 4, 32);
+        weight_by_edge(&p, w[k][0], w[k][1]);
+        pg_inspect_seams r;
+        pg_error err = {0};
+        assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+        print_message("edges x%.1f, inside x%.1f: face_seam_ratio %.3f, local %.3f\n", w[k][0],
+                      w[k][1], r.face_seam_ratio, r.face_seam_ratio_local);
+        if (k == 0) assert_true(r.face_seam_ratio > 1.3); /* the pooled ratio is fooled */
+        if (k == 1) assert_true(r.height.face_seam_ratio < 0.7);
+        assert_true(fabs(r.height.face_seam_ratio_local - 1) < 0.1);
+        assert_true(fabs(r.albedo.face_seam_ratio_local - 1) < 0.1);
+        /* and a real seam still shows */
+        turn_face(&p, PG_CUBE_FACE_PY);
+        assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+        print_message("  one face turned: local %.3f\n", r.face_seam_ratio_local);
+        assert_true(r.height.face_seam_ratio_local > 1.3 && r.albedo.face_seam_ratio_local > 1.3);
+        pg_planet_free(&p);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_smooth_field_has_no_seams),
                                        cmocka_unit_test(test_turned_face_fails),
-                                       cmocka_unit_test(test_offset_tiles_show_at_tile_edges)};
+                                       cmocka_unit_test(test_offset_tiles_show_at_tile_edges),
+                                       cmocka_unit_test(test_local_ratio_ignores_where_detail_is)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -62,16 +62,24 @@ typedef struct pg_inspect_seam_stat {
     /* face_seam_mean / within_face_mean: tiles are views into one face array, so their
      * edges are ordinary pairs here, and only the 12 face seams are judged */
     double face_seam_ratio;
+    /* the pairs next to the seams, across the seam's direction, 1..9 texels in on either
+     * side: each seam's own ground */
+    double near_face_seam_mean;
+    /* face_seam_mean / near_face_seam_mean: each seam against the ground beside it, so
+     * that how busy the ground under the seams happens to be cancels out
+     * (docs/inspect.md, "Face seams"); reported beside the gated figure */
+    double face_seam_ratio_local;
     double tile_edge_ratio; /* tile_edge_mean / interior_mean (NaN with 1 tile per face) */
     uint64_t seam_pairs, interior_pairs, face_seam_pairs;
 } pg_inspect_seam_stat;
 
 typedef struct pg_inspect_seams {
     pg_inspect_seam_stat height, albedo;
-    double ratio;           /* the larger of the height and albedo ratios */
-    double face_seam_ratio; /* the larger of the two face_seam_ratio (gate
-                               PG_INSPECT_FACE_SEAM_GATE) */
-    double tile_edge_ratio; /* the larger of the two tile_edge_ratio */
+    double ratio;                 /* the larger of the height and albedo ratios */
+    double face_seam_ratio;       /* the larger of the two face_seam_ratio (gate
+                                     PG_INSPECT_FACE_SEAM_GATE) */
+    double face_seam_ratio_local; /* the larger of the two face_seam_ratio_local */
+    double tile_edge_ratio;       /* the larger of the two tile_edge_ratio */
 } pg_inspect_seams;
 
 /* The statistic of one field: faces[f] holds n*n texels of ch floats in the layout of

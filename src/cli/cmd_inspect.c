@@ -220,6 +220,8 @@ static void print_geometry(pg_cli *cli, const pg_realism *P, const pg_realism *E
     row(cli, "distortion_share_ratio", P->distortion_share_ratio, E->distortion_share_ratio, note);
     gated(cli, "face_seam_ratio", P->seams.face_seam_ratio, E->seams.face_seam_ratio,
           PG_INSPECT_FACE_SEAM_GATE, 1);
+    row(cli, "face_seam_ratio_local", P->seams.face_seam_ratio_local,
+        E->seams.face_seam_ratio_local, "each seam against the ground beside it");
     gated(cli, "face_seam_coherence", P->coherence.face_seam_coherence,
           E->coherence.face_seam_coherence, PG_INSPECT_FACE_COHERENCE_GATE, 0);
     row(cli, "tile_edge_ratio", P->seams.tile_edge_ratio, E->seams.tile_edge_ratio, NULL);
@@ -309,6 +311,7 @@ static void json_keys(pg_json *o, const pg_realism *r) {
     const pg_earthlike *e = &r->earthlike;
     pg_json_set_number(o, "pole_distortion_ratio", r->pole_distortion_ratio);
     pg_json_set_number(o, "face_seam_ratio", r->seams.face_seam_ratio);
+    pg_json_set_number(o, "face_seam_ratio_local", r->seams.face_seam_ratio_local);
     pg_json_set_number(o, "face_seam_coherence", r->coherence.face_seam_coherence);
     pg_json_set_number(o, "tile_edge_ratio", r->seams.tile_edge_ratio);
     pg_json_set_number(o, "seam_ratio", r->seams.ratio);
@@ -352,6 +355,8 @@ static void json_details(pg_json *o, const pg_realism *r) {
     d = pg_json_set_object(o, "seams");
     pg_json_set_number(d, "face_seam_ratio_height", r->seams.height.face_seam_ratio);
     pg_json_set_number(d, "face_seam_ratio_albedo", r->seams.albedo.face_seam_ratio);
+    pg_json_set_number(d, "face_seam_ratio_local_height", r->seams.height.face_seam_ratio_local);
+    pg_json_set_number(d, "face_seam_ratio_local_albedo", r->seams.albedo.face_seam_ratio_local);
     pg_json_set_number(d, "tile_edge_ratio_height", r->seams.height.tile_edge_ratio);
     pg_json_set_number(d, "tile_edge_ratio_albedo", r->seams.albedo.tile_edge_ratio);
     pg_json_set_number(d, "coherent_share_face_seams", r->coherence.seam_share);

@@ -16,7 +16,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { KIND_INTERIOR, KIND_TILE, KIND_FACE, KIND_COUNT };
+enum { KIND_INTERIOR, KIND_TILE, KIND_FACE, KIND_NEAR_FACE, KIND_COUNT };
+
+/* The local control of a face-seam pair: the pairs across the seam's direction at
+ * depths SEAM_NEAR_FROM .. SEAM_NEAR_FROM + SEAM_NEAR_COUNT inside the face (depth 0
+ * is the edge texel), on both sides (each side visits its own). */
+#define SEAM_NEAR_FROM 1
+#define SEAM_NEAR_COUNT 8
 
 typedef struct seam_acc {
     double sum[KIND_COUNT];
@@ -63,6 +69,14 @@ static void seam_pairs(const pg_cube_grid *g, int f, const float *const faces[PG
             const float *a = faces[f] + (size_t)(in[e][1] * n + in[e][0]) * ch;
             const float *b = faces[nf] + (size_t)rest * ch;
             add(acc, KIND_FACE, texel_delta(a, b, ch));
+            /* inward, one texel: minus the outward step */
+            const ptrdiff_t step =
+                -(ptrdiff_t)((out[e][1] - in[e][1]) * n + (out[e][0] - in[e][0]));
+            for (int64_t d = SEAM_NEAR_FROM; d < SEAM_NEAR_FROM + SEAM_NEAR_COUNT && d + 1 < n;
+                 d++) {
+                const float *p = a + step * d * ch;
+                add(acc, KIND_NEAR_FACE, texel_delta(p, p + step * ch, ch));
+            }
         }
     }
 }
@@ -109,8 +123,11 @@ pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const fac
     out->face_seam_pairs = t.count[KIND_FACE];
     out->within_face_mean = mean_of(t.sum[KIND_INTERIOR] + t.sum[KIND_TILE],
                                     t.count[KIND_INTERIOR] + t.count[KIND_TILE]);
+    out->near_face_seam_mean = mean_of(t.sum[KIND_NEAR_FACE], t.count[KIND_NEAR_FACE]);
     out->face_seam_ratio =
         out->within_face_mean > 0 ? out->face_seam_mean / out->within_face_mean : NAN;
+    out->face_seam_ratio_local =
+        out->near_face_seam_mean > 0 ? out->face_seam_mean / out->near_face_seam_mean : NAN;
     out->tile_edge_ratio = out->interior_mean > 0 && t.count[KIND_TILE]
                                ? out->tile_edge_mean / out->interior_mean
                                : NAN;
@@ -128,6 +145,8 @@ pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg
     if (st == PG_OK) st = pg_inspect_seam_field(p->n, p->tile_size, a, 3, &out->albedo, err);
     out->ratio = fmax(out->height.ratio, out->albedo.ratio);
     out->face_seam_ratio = fmax(out->height.face_seam_ratio, out->albedo.face_seam_ratio);
+    out->face_seam_ratio_local =
+        fmax(out->height.face_seam_ratio_local, out->albedo.face_seam_ratio_local);
     out->tile_edge_ratio = fmax(out->height.tile_edge_ratio, out->albedo.tile_edge_ratio);
     return st;
 }
