@@ -24,6 +24,7 @@
 #include "planetgen/pg_climate.h"
 #include "planetgen/pg_cube.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -82,6 +83,29 @@ static void level_row(const pg_cube_grid *g, const float *hpt, int64_t r, int f,
     const int64_t n = g->n;
     const int k = r >= n ? 1 : (int)((n + r - 1) / r);
     const double scale = (double)n / (double)r;
+    if (k == 1) { /* one point a texel: the bilinear inline away from the face's edges */
+        const double fy = ((double)y + 0.5) * scale - 0.5, y0 = floor(fy), ty = fy - y0;
+        const int64_t iy = (int64_t)y0;
+        const float *face = hpt + (size_t)f * (size_t)(n * n) * 3;
+        for (int64_t x = 0; x < r; x++) {
+            const double fx = ((double)x + 0.5) * scale - 0.5, x0 = floor(fx), tx = fx - x0;
+            const int64_t ix = (int64_t)x0;
+            float v[3];
+            if (ix >= 0 && iy >= 0 && ix + 1 < n && iy + 1 < n) { /* as face_sample_g */
+                const float *t0 = face + (size_t)(iy * n + ix) * 3, *t2 = t0 + (size_t)n * 3;
+                for (int c = 0; c < 3; c++) {
+                    double a = t0[c] + tx * ((double)t0[c + 3] - t0[c]),
+                           b = t2[c] + tx * ((double)t2[c + 3] - t2[c]);
+                    v[c] = (float)(a + ty * (b - a));
+                }
+            } else {
+                pg_cube_sample_face(g, hpt, 3, f, fx, fy, v);
+            }
+            if (guide) guide[x] = v[0];
+            if (mask) mask[x] = climate_mask(v[0], v[1], v[2]);
+        }
+        return;
+    }
     for (int64_t x = 0; x < r; x++) {
         double acc[3] = {0, 0, 0};
         for (int sy = 0; sy < k; sy++)
