@@ -4,6 +4,8 @@
  * hemispheres with known Euler poles are classified as theory says; sea level yields
  * the requested land share; over seeds 1..8 the macro structure is Earth-like
  * (landmasses, mountain belts on convergent boundaries, ocean and land mean heights).
+ * The warped detail (pg_plates_detail) moves directions by about a source texel, no
+ * more than three, the same way for any thread count and seamlessly across faces.
  * Renders the preview maps into the scratch directory and prints the timing. */
 #include "pg_test.h"
 
@@ -330,12 +332,64 @@ static void test_bad_input(void **state) {
     assert_null(w.elevation_m);
 }
 
+/* pg_plates_detail on a field whose channels are the texel's own direction: each output
+ * texel then holds (nearly) the direction it was moved to, so the warp can be read off. */
+static void test_detail_warp(void **state) {
+    (void)state;
+    const int64_t n = 16, m = 64;
+    pg_error err = {0};
+    pg_cube_grid src, dst;
+    assert_int_equal(pg_cube_grid_init(&src, PG_CUBE_DEFAULT_PROJECTION, 1, (int)n, &err), PG_OK);
+    assert_int_equal(pg_cube_grid_init(&dst, PG_CUBE_DEFAULT_PROJECTION, 1, (int)m, &err), PG_OK);
+    float *in = malloc((size_t)6 * n * n * 3 * sizeof *in);
+    float *a = malloc((size_t)6 * m * m * 3 * sizeof *a),
+          *b = malloc((size_t)6 * m * m * 3 * sizeof *b);
+    assert_non_null(in);
+    assert_non_null(a);
+    assert_non_null(b);
+    for (int64_t i = 0; i < 6 * n * n; i++) {
+        double d[3];
+        pg_cube_texel_dir(&src, i, d);
+        for (int c = 0; c < 3; c++)
+            in[3 * i + c] = (float)d[c];
+    }
+    omp_set_num_threads(1);
+    assert_int_equal(pg_plates_detail(5, PG_CUBE_DEFAULT_PROJECTION, n, in, 3, m, a, &err), PG_OK);
+    omp_set_num_threads(2);
+    assert_int_equal(pg_plates_detail(5, PG_CUBE_DEFAULT_PROJECTION, n, in, 3, m, b, &err), PG_OK);
+    assert_memory_equal(a, b, (size_t)6 * m * m * 3 * sizeof *a);
+    const double texel = 3.14159265358979 / 2 / (double)n;
+    double sum = 0, worst = 0;
+    for (int64_t i = 0; i < 6 * m * m; i++) {
+        double p[3], dot = 0, len = 0;
+        pg_cube_texel_dir(&dst, i, p);
+        for (int c = 0; c < 3; c++) {
+            dot += p[c] * a[3 * i + c];
+            len += (double)a[3 * i + c] * a[3 * i + c];
+        }
+        double ang = acos(fmin(1.0, dot / sqrt(len))) / texel;
+        sum += ang;
+        worst = fmax(worst, ang);
+    }
+    print_message("detail: mean displacement %.2f source texels, largest %.2f\n",
+                  sum / (6.0 * m * m), worst);
+    assert_true(sum / (6.0 * m * m) > 0.3); /* it warps */
+    assert_true(worst < 3.0);               /* by about a texel, not across the map */
+    /* another seed, another warp; bad sizes refused */
+    assert_int_equal(pg_plates_detail(6, PG_CUBE_DEFAULT_PROJECTION, n, in, 3, m, b, &err), PG_OK);
+    assert_true(memcmp(a, b, (size_t)6 * m * m * 3 * sizeof *a) != 0);
+    assert_int_equal(pg_plates_detail(5, PG_CUBE_DEFAULT_PROJECTION, n, in, 3, n - 1, b, &err),
+                     PG_ERR_BADINPUT);
+    free(in), free(a), free(b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),       cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_plate_areas),     cmocka_unit_test(test_boundary_kinds),
         cmocka_unit_test(test_land_fraction),   cmocka_unit_test(test_render),
         cmocka_unit_test(test_macro_structure), cmocka_unit_test(test_hypsometry),
+        cmocka_unit_test(test_detail_warp),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -132,6 +132,16 @@ typedef struct pg_plates_stats {
 
 pg_status pg_plates_stats_compute(const pg_plates_world *w, pg_plates_stats *s, pg_error *err);
 
+/* The macro fields as the synthesis samples them (docs/generate.md, "Layout world"):
+ * nch interleaved channels on a cube of n texels a face edge resampled onto a cube of m
+ * (> n, same projection), each texel taking the bilinear value at its direction moved
+ * by a smooth hashed warp of about one source texel, so that contours on the coarse
+ * grid (an ice margin, an escarpment) wander as on Earth instead of following its
+ * lines and face seams. The warp is a function of (seed, direction) alone. out holds
+ * 6 m^2 nch floats (caller-owned). */
+pg_status pg_plates_detail(uint64_t seed, pg_cube_projection proj, int64_t n, const float *in,
+                           int nch, int64_t m, float *out, pg_error *err);
+
 /* Preview images, equirectangular width x width/2, RGB floats 0..1 (pg_image_alloc'd;
  * free with pg_image_free). Plates: a distinct colour per plate over a relief shade,
  * boundaries red (convergent), blue (divergent), green (transform). Relief: a

@@ -62,7 +62,8 @@ const char *gen_path_for(const char *name, void *user);
 typedef struct gen_world {
     pg_plates_world plates;
     pg_climate climate;
-    pg_planet_world world; /* views into plates and climate */
+    float *detail;         /* the fields on a finer cube (pg_plates_detail), 3 planes */
+    pg_planet_world world; /* views into detail: what the synthesis follows */
     pg_plates_stats stats; /* of the plates' world */
 } gen_world;
 

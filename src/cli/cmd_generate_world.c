@@ -14,7 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define GEN_WORLD_N 64 /* macro texels per face edge (about 140 km) */
+#define GEN_WORLD_N 64     /* macro texels per face edge (about 140 km) */
+#define GEN_WORLD_DETAIL 4 /* the synthesis' controls on a cube this many times finer */
 #define GEN_WORLD_PREVIEW_WIDTH 1024
 #define GEN_WORLD_QUANTILES 1001 /* the exemplar's hypsometry, per mille */
 
@@ -27,6 +28,8 @@ void gen_world_init(gen_world *w) {
 void gen_world_free(gen_world *w) {
     pg_plates_world_free(&w->plates);
     pg_climate_free(&w->climate);
+    free(w->detail);
+    w->detail = NULL;
 }
 
 /* An ice sheet's rank offset: land whose first-guess climate is an ice climate stands
@@ -71,6 +74,31 @@ static pg_status match_exemplar(const gen_args *a, const pg_synth_exemplar *ex, 
     return st;
 }
 
+/* The macro fields with warped contours on a finer cube (pg_plates_detail), as the
+ * world the synthesis follows; plates.png, climate.png and world.exr keep the macro
+ * grid. */
+static pg_status detail_world(const gen_args *a, gen_world *w, pg_error *err) {
+    const int64_t n = w->plates.n, m = GEN_WORLD_DETAIL * n, nn = 6 * n * n, mm = 6 * m * m;
+    float *in = malloc((size_t)nn * 3 * sizeof *in), *out = malloc((size_t)mm * 3 * sizeof *out);
+    w->detail = malloc((size_t)mm * 3 * sizeof *w->detail);
+    if (!in || !out || !w->detail) {
+        free(in), free(out);
+        return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+    }
+    for (int64_t i = 0; i < nn; i++) {
+        in[3 * i] = w->plates.elevation_m[i];
+        in[3 * i + 1] = w->climate.temperature_c[i];
+        in[3 * i + 2] = w->climate.precipitation_mm[i];
+    }
+    pg_status st = pg_plates_detail((uint64_t)a->seed, w->plates.proj, n, in, 3, m, out, err);
+    for (int64_t i = 0; !st && i < mm; i++)
+        for (int c = 0; c < 3; c++)
+            w->detail[c * mm + i] = out[3 * i + c];
+    free(in), free(out);
+    w->world = (pg_planet_world){m, w->detail, w->detail + mm, w->detail + 2 * mm};
+    return st;
+}
+
 pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_world *w,
                           pg_error *err) {
     pg_plates_params pp;
@@ -89,8 +117,7 @@ pg_status gen_world_build(const gen_args *a, const pg_synth_exemplar *ex, gen_wo
     if (!st)
         st = pg_climate_compute(&cp, w->plates.proj, w->plates.n, w->plates.elevation_m,
                                 &w->climate, err);
-    w->world = (pg_planet_world){w->plates.n, w->plates.elevation_m, w->climate.temperature_c,
-                                 w->climate.precipitation_mm};
+    if (!st) st = detail_world(a, w, err);
     return st;
 }
 

@@ -34,7 +34,8 @@ enum {
     PG_PLATES_S_WARP,
     PG_PLATES_S_SHAPE,
     PG_PLATES_S_RELIEF,
-    PG_PLATES_S_AGE
+    PG_PLATES_S_AGE,
+    PG_PLATES_S_DETAIL
 };
 
 typedef struct pg_plates_grid {
