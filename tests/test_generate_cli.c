@@ -50,6 +50,17 @@ static void type_bands(int x, int y, float *c) {
     memcpy(c, pal[x * 7 / 140], sizeof pal[0]);
 }
 
+/* The whole of a small text file (a JSON report) into a static buffer. */
+static const char *slurp(const char *path) {
+    static char buf[65536];
+    FILE *f = fopen(path, "r");
+    if (!f) fail_msg("cannot open %s", path);
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return buf;
+}
+
 static void test_type_map_colours(void **state) {
     (void)state;
     char dir[512], f[600];
@@ -164,28 +175,44 @@ static void test_small_planet(void **state) {
         if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
     }
     snprintf(path, sizeof path, "%s/r.json", dir);
-    FILE *f = fopen(path, "r");
-    assert_non_null(f);
-    static char json[65536];
-    size_t n = fread(json, 1, sizeof json - 1, f);
-    json[n] = 0;
-    fclose(f);
+    const char *json = slurp(path);
     const char *after = strstr(json, "\"pits_after\"");
     assert_non_null(after);
     assert_non_null(strstr(after, "\"depressions\": 0"));
     assert_non_null(strstr(json, "\"land_agreement\""));
     /* planet.json says how the planet was made */
     snprintf(path, sizeof path, "%s/p/planet.json", dir);
-    f = fopen(path, "r");
-    assert_non_null(f);
-    n = fread(json, 1, sizeof json - 1, f);
-    json[n] = 0;
-    fclose(f);
+    json = slurp(path);
     const char *gen = strstr(json, "\"generation\"");
     if (!gen) fail_msg("planet.json has no generation record: %s", json);
     assert_non_null(strstr(gen, "\"layout\": \"world\""));
     assert_non_null(strstr(gen, "\"plates\": 14"));
     assert_non_null(strstr(gen, "\"land_fraction\": 0.29"));
+}
+
+/* The smallest planet the options allow (one tile of 32^2 per face): its pyramid's coarsest level
+ * has one texel per face, which Gain-pit skips; every layout delivers it drained. */
+static void test_smallest_planet(void **state) {
+    (void)state;
+    const char *layouts[] = {"free", "world", "earth"};
+    for (int i = 0; i < 3; i++) {
+        char dir[512], args[2048], path[700];
+        snprintf(path, sizeof path, "generate-cli-n32-%s", layouts[i]);
+        pg_test_scratch_dir(path, dir, sizeof dir);
+        snprintf(args, sizeof args,
+                 "generate --layout %s --tiles 1 --tile-size 32 --cache-dir %s/synth-cache "
+                 "--no-glb -o %s/p --json %s/r.json",
+                 layouts[i], getenv("PG_BUILD_DIR"), dir, dir);
+        int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+        if (rc != 0) fail_msg("layout %s: exit %d: %s", layouts[i], rc, err);
+        snprintf(path, sizeof path, "%s/p/height.exr", dir);
+        if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
+        snprintf(path, sizeof path, "%s/r.json", dir);
+        const char *json = slurp(path);
+        const char *after = strstr(json, "\"pits_after\"");
+        if (!after || !strstr(after, "\"depressions\": 0"))
+            fail_msg("layout %s: not drained: %s", layouts[i], json);
+    }
 }
 
 int main(void) {
@@ -196,6 +223,7 @@ int main(void) {
         cmocka_unit_test(test_preset_without_texels),
         cmocka_unit_test(test_world_exemplar_without_land),
         cmocka_unit_test(test_small_planet),
+        cmocka_unit_test(test_smallest_planet),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
