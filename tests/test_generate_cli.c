@@ -215,6 +215,61 @@ static void test_smallest_planet(void **state) {
     }
 }
 
+/* Half land (a ramp from -2000 to +1500 m across x), so every stage of the preparation runs. */
+static void land_albedo(int x, int y, float *c) {
+    float land = x >= 128 ? 1.0f : 0.0f;
+    c[0] = 0.02f + 0.3f * land, c[1] = 0.05f + 0.25f * land + 0.01f * (float)(y % 5),
+    c[2] = 0.3f - 0.2f * land;
+}
+
+/* A cold preparation reports its own stages (docs/generate.md, "Exemplar preparation"): five
+ * times, none negative, that together take no longer than the whole preparation. */
+static void test_cold_prep_stages(void **state) {
+    (void)state;
+    char dir[512], a[600], h[600], args[4096], path[700];
+    pg_test_scratch_dir("generate-cli-prep-stages", dir, sizeof dir);
+    snprintf(a, sizeof a, "%s/albedo.png", dir);
+    write_png(a, 256, 128, land_albedo);
+    pg_image img;
+    pg_error e = {0};
+    assert_int_equal(pg_image_alloc(&img, 256, 128, 1, &e), PG_OK);
+    for (int i = 0; i < 256 * 128; i++)
+        img.data[i] = -2000.0f + 3500.0f * (float)(i % 256) / 255.0f + (float)((i * 31) % 17);
+    snprintf(h, sizeof h, "%s/height.exr", dir);
+    assert_int_equal(pg_image_write_exr(h, &img, NULL, &e), PG_OK);
+    pg_image_free(&img);
+    snprintf(args, sizeof args,
+             "generate --layout free --tiles 1 --tile-size 32 --albedo %s --height %s "
+             "--cache-dir %s/cache --no-glb -o %s/o --json %s/r.json",
+             a, h, dir, dir, dir);
+    int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 0) fail_msg("exit %d: %s", rc, err);
+    snprintf(path, sizeof path, "%s/r.json", dir);
+    const char *json = slurp(path);
+    const char *tot = strstr(json, "\"exemplar_prep_seconds\": ");
+    const char *st = strstr(json, "\"exemplar_prep_stages\"");
+    if (!tot || !st) fail_msg("no preparation record in %s", json);
+    double total = strtod(tot + strlen("\"exemplar_prep_seconds\": "), NULL), sum = 0;
+    const char *names[5] = {"cube", "stack", "appearance", "kcoherence", "cache_write"};
+    for (int i = 0; i < 5; i++) {
+        char key[40];
+        snprintf(key, sizeof key, "\"%s\": ", names[i]);
+        const char *k = strstr(st, key);
+        if (!k) fail_msg("stage %s missing: %s", names[i], st);
+        double s = strtod(k + strlen(key), NULL);
+        assert_true(s >= 0.0);
+        sum += s;
+    }
+    if (!(sum > 0.0 && sum <= total + 1e-3))
+        fail_msg("stages sum to %.4f s, the preparation took %.4f s", sum, total);
+    /* warm: loaded from the cache, no stages */
+    rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
+    if (rc != 0) fail_msg("exit %d: %s", rc, err);
+    json = slurp(path);
+    assert_non_null(strstr(json, "\"exemplar_from_cache\": true"));
+    assert_null(strstr(json, "\"exemplar_prep_stages\""));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_type_map_colours),
@@ -224,6 +279,7 @@ int main(void) {
         cmocka_unit_test(test_world_exemplar_without_land),
         cmocka_unit_test(test_small_planet),
         cmocka_unit_test(test_smallest_planet),
+        cmocka_unit_test(test_cold_prep_stages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
