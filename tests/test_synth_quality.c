@@ -315,6 +315,27 @@ static void test_coherent_patches(void **state) {
     free(size);
 }
 
+/* The preparation projects texels in batches (one per vector lane): on the real basis of every
+ * level, 21 raw vectors (two batches and a tail) give the same bits as one at a time. */
+static void test_project_batches(void **state) {
+    (void)state;
+    enum { NV = 21 };
+    static float raw[NV][PG_SYNTH_RAW], batch[NV * PG_SYNTH_MAX_DIMS], one[PG_SYNTH_MAX_DIMS];
+    for (int s = 0; s < ex->levels; s++) {
+        for (int t = 0; t < NV; t++)
+            for (int i = 0; i < PG_SYNTH_RAW; i++) /* Lab-like values, both signs, 1/3 steps */
+                raw[t][i] = (float)((t * 7919 + i * 104729 + s * 31) % 301 - 100) / 3.0f;
+        memset(batch, 0, sizeof batch);
+        pg_appearance_project_n(ex, s, (const float(*)[PG_SYNTH_RAW])raw, NV, batch);
+        for (int t = 0; t < NV; t++) {
+            pg_appearance_project(ex, s, raw[t], one);
+            if (memcmp(one, batch + (size_t)t * PG_SYNTH_MAX_DIMS, ex->dims * sizeof(float)))
+                fail_msg("level %d, vector %d: batch %a, alone %a (first component)", s, t,
+                         batch[(size_t)t * PG_SYNTH_MAX_DIMS], one[0]);
+        }
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_neighbourhood_fidelity),
@@ -322,6 +343,7 @@ int main(void) {
         cmocka_unit_test(test_coherent_patches),
         cmocka_unit_test(test_cube_threads_and_tiles),
         cmocka_unit_test(test_prepare_threads),
+        cmocka_unit_test(test_project_batches),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -63,6 +63,9 @@ pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_e
                                   pg_error *err);
 /* Project one raw vector with the exemplar's basis at scale s into float comps[dims]. */
 void pg_appearance_project(const pg_synth_exemplar *ex, int scale, const float *raw, float *comps);
+/* The same on n raw vectors at once (comps: n x PG_SYNTH_MAX_DIMS), bit for bit. */
+void pg_appearance_project_n(const pg_synth_exemplar *ex, int scale,
+                             const float (*raw)[PG_SYNTH_RAW], int n, float *comps);
 
 /* pg_kcoherence_patchmatch.c: fill ex->kcoh[scale]. */
 pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, int iters,
