@@ -97,46 +97,111 @@ static uint32_t random_coord(const pm_ctx *c, int face, int x, int y, int salt) 
     return pg_synth_pack(f, (int)((h1 >> 8) % (uint32_t)c->E), (int)(h2 % (uint32_t)c->E));
 }
 
+/* The work is bound by the latency of the candidates' appearance vectors, read at
+ * random: each texel's candidates are prefetched while the texel before it is visited
+ * (prefetches change no result). */
+static void prefetch_app(const pm_ctx *c, uint32_t m) {
+    __builtin_prefetch(c->ex->app[c->scale] +
+                       pg_synth_texel(c->ex, m & ~PG_SYNTH_ORIENT_MASK) * PG_SYNTH_MAX_DIMS);
+}
+
+#define INIT_DRAWS (4 * KMAX)
+
 static void init_face(pm_ctx *c, int face) {
-    const int E = c->E, m = c->m;
+    const int E = c->E, m = c->m, draws = 4 * c->kk;
+    uint32_t next[INIT_DRAWS];
+    for (int a = 0; a < draws; a++)
+        next[a] = random_coord(c, face, 0, 0, a * 2);
     for (int y = 0; y < E; y += m)
         for (int x = 0; x < E; x += m) {
             size_t t = ((size_t)face * E + y) * E + x;
-            uint32_t self = pg_synth_pack(face, x, y);
+            uint32_t self = pg_synth_pack(face, x, y), cur[INIT_DRAWS];
+            memcpy(cur, next, sizeof(uint32_t) * (size_t)draws);
+            int nx = x + m < E ? x + m : 0, ny = x + m < E ? y : y + m;
+            for (int a = 0; ny < E && a < draws; a++) {
+                next[a] = random_coord(c, face, nx, ny, a * 2);
+                prefetch_app(c, next[a]);
+            }
             for (int i = 0; i < c->kk; i++) {
                 c->table[t * c->kk + i] = self; /* sentinel: infinitely bad until replaced */
                 c->dist[t * c->kk + i] = INT_MAX;
             }
-            for (int a = 0; a < 4 * c->kk; a++)
-                offer(c, self, t, random_coord(c, face, x, y, a * 2));
+            for (int a = 0; a < draws; a++)
+                offer(c, self, t, cur[a]);
         }
 }
 
-static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
+/* The random search's candidate in the window of radius r around b. */
+static uint32_t window_coord(const pm_ctx *c, int face, int x, int y, int r, int salt, uint32_t b) {
+    uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
+    int du = (int)(h & 0xffff) % (2 * r + 1) - r, dv = (int)(h >> 16) % (2 * r + 1) - r;
+    return pg_synth_offset(c->ex, b, du, dv);
+}
+
+/* The random search's candidates of texel (x, y) around a fixed best b: windows
+ * shrinking 4x from E/2, then one anywhere (into out; returns how many). */
+static int search_coords(const pm_ctx *c, int face, int x, int y, int it, uint32_t b,
+                         uint32_t *out) {
+    int n = 0, salt = 1000 + it * 100;
+    for (int r = c->E / 2; r >= 1; r /= 4, salt += 2)
+        out[n++] = window_coord(c, face, x, y, r, salt, b);
+    out[n++] = random_coord(c, face, x, y, salt);
+    return n;
+}
+
+/* The entries of (x, y)'s visited lattice neighbour n (0: along x, 1: along y) in the scan
+ * direction dir, at (*nx, *ny); NULL off the edge of a face that is no torus. */
+static const uint32_t *lattice_neighbour(const pm_ctx *c, int face, int x, int y, int n, int dir,
+                                         int *nx, int *ny) {
     const int E = c->E, m = c->m;
+    *nx = x - (n == 0 ? dir * m : 0), *ny = y - (n == 1 ? dir * m : 0);
+    if (!c->ex->torus && (*nx < 0 || *ny < 0 || *nx >= E || *ny >= E)) return NULL;
+    *nx &= E - 1;
+    *ny &= E - 1;
+    return c->table + (((size_t)face * E + *ny) * E + *nx) * c->kk;
+}
+
+/* Prefetch what visiting (x, y) will read: its neighbours' entries moved to it, and
+ * its random search around its best as it stands (the propagation may still improve
+ * that best; then those prefetches are wasted, never wrong). */
+static void prefetch_visit(const pm_ctx *c, int face, int x, int y, int it, int dir) {
+    const int E = c->E;
+    for (int n = 0; n < 2; n++) {
+        int nx, ny;
+        const uint32_t *ne = lattice_neighbour(c, face, x, y, n, dir, &nx, &ny);
+        for (int i = 0; ne && i < c->kk; i++)
+            prefetch_app(c, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
+    }
+    uint32_t q[16];
+    int k = search_coords(c, face, x, y, it, c->table[(((size_t)face * E + y) * E + x) * c->kk], q);
+    for (int i = 0; i < k; i++)
+        prefetch_app(c, q[i]);
+}
+
+static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
+    const int E = c->E;
     size_t t = ((size_t)face * E + y) * E + x;
     uint32_t self = pg_synth_pack(face, x, y);
     /* propagation from the visited lattice neighbours (x - dir m, y), (x, y - dir m) */
     for (int n = 0; n < 2; n++) {
-        int nx = x - (n == 0 ? dir * m : 0), ny = y - (n == 1 ? dir * m : 0);
-        if (!c->ex->torus && (nx < 0 || ny < 0 || nx >= E || ny >= E)) continue;
-        nx &= E - 1;
-        ny &= E - 1;
-        const uint32_t *ne = c->table + (((size_t)face * E + ny) * E + nx) * c->kk;
-        for (int i = 0; i < c->kk; i++) {
+        int nx, ny;
+        const uint32_t *ne = lattice_neighbour(c, face, x, y, n, dir, &nx, &ny);
+        for (int i = 0; ne && i < c->kk; i++) {
             if (ne[i] == pg_synth_pack(face, nx, ny)) continue; /* still the sentinel */
             offer(c, self, t, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
         }
     }
-    /* random search around the current best, windows shrinking 4x, then one anywhere */
+    /* random search around the current best (re-read after each offer), windows
+     * shrinking 4x, then one anywhere */
     int salt = 1000 + it * 100;
-    for (int r = E / 2; r >= 1; r /= 4, salt += 2) {
-        uint32_t b = c->table[t * c->kk];
-        uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
-        int du = (int)(h & 0xffff) % (2 * r + 1) - r, dv = (int)(h >> 16) % (2 * r + 1) - r;
-        offer(c, self, t, pg_synth_offset(c->ex, b, du, dv));
-    }
+    for (int r = E / 2; r >= 1; r /= 4, salt += 2)
+        offer(c, self, t, window_coord(c, face, x, y, r, salt, c->table[t * c->kk]));
     offer(c, self, t, random_coord(c, face, x, y, salt));
+}
+
+static void visit_next(pm_ctx *c, int face, int x, int y, int it, int dir, int nx, int ny) {
+    visit(c, face, x, y, it, dir);
+    if (nx >= 0 && ny >= 0 && nx < c->E && ny < c->E) prefetch_visit(c, face, nx, ny, it, dir);
 }
 
 static void scan_face(pm_ctx *c, int face, int it) {
@@ -144,11 +209,11 @@ static void scan_face(pm_ctx *c, int face, int it) {
     if (it % 2 == 0) {
         for (int y = 0; y < E; y += m)
             for (int x = 0; x < E; x += m)
-                visit(c, face, x, y, it, 1);
+                visit_next(c, face, x, y, it, 1, x + m < E ? x + m : 0, x + m < E ? y : y + m);
     } else {
         for (int y = last; y >= 0; y -= m)
             for (int x = last; x >= 0; x -= m)
-                visit(c, face, x, y, it, -1);
+                visit_next(c, face, x, y, it, -1, x >= m ? x - m : last, x >= m ? y : y - m);
     }
 }
 
