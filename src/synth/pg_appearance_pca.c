@@ -69,23 +69,43 @@ void pg_appearance_project(const pg_synth_exemplar *ex, int scale, const float *
 
 /* ---- covariance over a strided sample of texels, deterministic chunked sums ---- */
 
+/* Each chunk's sums hold the upper triangle of the cross products only (row i from
+ * column i on, rows packed): the lower half is the mirror image and was never read. */
+#define COV_TRI (PG_SYNTH_RAW * (PG_SYNTH_RAW + 1) / 2)
+
 typedef struct cov_acc {
     double sum[PG_SYNTH_RAW];
-    double cross[PG_SYNTH_RAW * PG_SYNTH_RAW];
+    double cross[COV_TRI];
     double n;
 } cov_acc;
 
-static void accumulate_row(const pg_synth_faces *f, int face, int y, int h, int stride,
-                           cov_acc *a) {
+/* Where row i of the packed upper triangle starts (its column i). */
+static int tri_row(int i) {
+    return i * PG_SYNTH_RAW - i * (i - 1) / 2;
+}
+
+/* The chunk's sums over the sampled texels of row y. The accumulator is cleared here,
+ * by the thread that fills it: its pages are written before they are read, one page
+ * fault each (a calloc'd block is read as the shared zero page first, then faults
+ * again, copy on write, with a TLB shootdown across cores). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+static void
+accumulate_row(const pg_synth_faces *f, int face, int y, int h, int stride, cov_acc *a) {
+    memset(a, 0, sizeof *a);
     float raw[PG_SYNTH_RAW];
+    double rd[PG_SYNTH_RAW];
     for (int x = (y / stride) % stride; x < f->size; x += stride) {
         pg_appearance_gather(f, face, x, y, h, raw);
+        for (int i = 0; i < PG_SYNTH_RAW; i++)
+            rd[i] = raw[i];
         for (int i = 0; i < PG_SYNTH_RAW; i++) {
-            a->sum[i] += raw[i];
-            double ri = raw[i];
-            double *row = a->cross + (size_t)i * PG_SYNTH_RAW;
+            a->sum[i] += rd[i];
+            const double ri = rd[i];
+            double *row = a->cross + tri_row(i) - i; /* row[j], j >= i */
             for (int j = i; j < PG_SYNTH_RAW; j++)
-                row[j] += ri * raw[j];
+                row[j] += ri * rd[j];
         }
         a->n += 1;
     }
@@ -96,7 +116,7 @@ static pg_status covariance(const pg_synth_faces *f, int h, double *mean, double
     const int stride = f->size >= 256 ? 8 : (f->size >= 64 ? 4 : 1);
     const int rows_per_face = (f->size + stride - 1) / stride;
     const int nchunks = f->nfaces * rows_per_face;
-    cov_acc *acc = calloc((size_t)nchunks, sizeof *acc);
+    cov_acc *acc = malloc((size_t)nchunks * sizeof *acc);
     if (!acc) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
 #pragma omp parallel for schedule(dynamic, 1)
     for (int c = 0; c < nchunks; c++)
@@ -108,8 +128,11 @@ static pg_status covariance(const pg_synth_faces *f, int h, double *mean, double
         n += acc[c].n;
         for (int i = 0; i < PG_SYNTH_RAW; i++)
             mean[i] += acc[c].sum[i];
-        for (int i = 0; i < PG_SYNTH_RAW * PG_SYNTH_RAW; i++)
-            cov[i] += acc[c].cross[i];
+        for (int i = 0; i < PG_SYNTH_RAW; i++) {
+            const double *row = acc[c].cross + tri_row(i) - i;
+            for (int j = i; j < PG_SYNTH_RAW; j++)
+                cov[i * PG_SYNTH_RAW + j] += row[j];
+        }
     }
     free(acc);
     for (int i = 0; i < PG_SYNTH_RAW; i++)
