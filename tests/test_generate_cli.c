@@ -191,7 +191,8 @@ static void test_small_planet(void **state) {
 }
 
 /* The smallest planet the options allow (one tile of 32^2 per face): its pyramid's coarsest level
- * has one texel per face, which Gain-pit skips; every layout delivers it drained. */
+ * has one texel per face, which Gain-pit skips; every layout delivers it drained, and -v names
+ * the pit removal that ran. */
 static void test_smallest_planet(void **state) {
     (void)state;
     const char *layouts[] = {"free", "world", "earth"};
@@ -200,11 +201,16 @@ static void test_smallest_planet(void **state) {
         snprintf(path, sizeof path, "generate-cli-n32-%s", layouts[i]);
         pg_test_scratch_dir(path, dir, sizeof dir);
         snprintf(args, sizeof args,
-                 "generate --layout %s --tiles 1 --tile-size 32 --cache-dir %s/synth-cache "
+                 "generate -v --layout %s --tiles 1 --tile-size 32 --cache-dir %s/synth-cache "
                  "--no-glb -o %s/p --json %s/r.json",
                  layouts[i], getenv("PG_BUILD_DIR"), dir, dir);
         int rc = pg_test_run_cli(args, out, sizeof out, err, sizeof err);
         if (rc != 0) fail_msg("layout %s: exit %d: %s", layouts[i], rc, err);
+        /* -v names the pit removal that runs: breaching along the descent tree */
+        if (!strstr(out, "Gain-pit (Scott 2020 4.2.1): breaching along the descent tree") &&
+            !strstr(err, "Gain-pit (Scott 2020 4.2.1): breaching along the descent tree"))
+            fail_msg("layout %s: -v does not name the descent-tree breach: %s%s", layouts[i], out,
+                     err);
         snprintf(path, sizeof path, "%s/p/height.exr", dir);
         if (!pg_test_file_nonempty(path)) fail_msg("missing %s", path);
         snprintf(path, sizeof path, "%s/r.json", dir);

@@ -151,6 +151,9 @@ bool pg_pits_method_parse(const char *s, pg_pits_method *m);
 const char *pg_pits_method_name(pg_pits_method m);
 /* One-line citation of the paper the method implements (for --verbose). */
 const char *pg_pits_method_citation(pg_pits_method m);
+/* The citation of what pg_pits_remove runs with these options: the method's, or for
+ * breach and hybrid with `descent`, the descent-tree form's. */
+const char *pg_pits_citation(const pg_pits_opts *o);
 
 /* What a removal did. */
 typedef struct pg_pits_result {

@@ -191,6 +191,11 @@ typedef struct pg_planet_synth_info {
     double peak_bytes_estimate;
 } pg_planet_synth_info;
 
+/* The options Gain-pit (method p->pit_method) and the final pass (p->final_method) run
+ * with on an exemplar of this sea level: breach or hybrid along the descent tree with
+ * epsilon, the ocean a sink (docs/generate.md, "Method"). */
+void pg_planet_synth_pits_opts(pg_pits_method m, float sea_level, pg_pits_opts *o);
+
 /* Bytes the driver needs beyond the prepared exemplar for a planet of T x S. */
 double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p);
 

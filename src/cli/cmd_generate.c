@@ -342,12 +342,12 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
                        "guide    Scott & Dodgson 2021 soft constraint, weight %.2f halving "
                        "per finer level\n",
                        p->guide_alpha);
-    if (p->pits) {
-        pg_cli_verbose(cli, "pits     Gain-pit (Scott 2020 4.2.1): %s\n",
-                       pg_pits_method_citation(p->pit_method));
-        if (p->final_pits)
-            pg_cli_verbose(cli, "pits     final pass: %s\n",
-                           pg_pits_method_citation(p->final_method));
+    if (p->pits) { /* name what runs: the options the synthesis gives pg_pits */
+        pg_pits_opts po;
+        pg_planet_synth_pits_opts(p->pit_method, 0.0f, &po);
+        pg_cli_verbose(cli, "pits     Gain-pit (Scott 2020 4.2.1): %s\n", pg_pits_citation(&po));
+        pg_planet_synth_pits_opts(p->final_method, 0.0f, &po);
+        if (p->final_pits) pg_cli_verbose(cli, "pits     final pass: %s\n", pg_pits_citation(&po));
     }
     pg_json *r = pg_cli_report(cli);
     if (w && !r) gen_world_report(cli, w, NULL);

@@ -118,3 +118,12 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
         return pg_error_set(err, PG_ERR_BADINPUT, "types: no type allowed");
     return PG_OK;
 }
+
+void pg_planet_synth_pits_opts(pg_pits_method m, float sea_level, pg_pits_opts *o) {
+    pg_pits_opts_default(o);
+    o->method = m;
+    o->epsilon = true;
+    o->descent = true; /* no flood order: MPI ranks reproduce it (docs/mpi.md) */
+    o->has_sea_level = true;
+    o->sea_level = sea_level;
+}

@@ -74,12 +74,7 @@ static void store_offsets(const pg_ps_ctx *c, const level_rows *lr, const float 
 
 static pg_pits_opts pits_opts(const pg_ps_ctx *c, pg_pits_method m) {
     pg_pits_opts o;
-    pg_pits_opts_default(&o);
-    o.method = m;
-    o.epsilon = true;
-    o.descent = true; /* no flood order: MPI ranks reproduce it (docs/mpi.md) */
-    o.has_sea_level = true;
-    o.sea_level = c->ex->sea_level;
+    pg_planet_synth_pits_opts(m, c->ex->sea_level, &o);
     return o;
 }
 
