@@ -115,7 +115,9 @@ typedef struct pg_synth_prep_info {
     bool from_cache;
     char cache_path[512];    /* "" when caching is off */
     double bytes;            /* memory held by the prepared exemplar */
-    double stage_seconds[5]; /* cube, stack, pca, kcoherence, cache write */
+    double stage_seconds[5]; /* cube (with the check of the parameters and the key's
+                                hash of the inputs), stack, pca (with the height range
+                                and weighting), kcoherence, cache write */
 } pg_synth_prep_info;
 
 /* Prepare from a global equirectangular albedo (RGB 0..1, sRGB) and height (metres)

@@ -311,11 +311,11 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_cli_info(cli, "exemplar 6 x %d^2, %s in %.2f s\n", sc->face,
                 pi->from_cache ? "loaded from cache" : "prepared", pi->seconds);
     if (!pi->from_cache)
-        pg_cli_info(cli,
-                    "         cube %.2f s, stack %.2f s, appearance %.2f s, k-coherence %.2f s, "
-                    "cache write %.2f s\n",
-                    pi->stage_seconds[0], pi->stage_seconds[1], pi->stage_seconds[2],
-                    pi->stage_seconds[3], pi->stage_seconds[4]);
+        pg_cli_verbose(cli,
+                       "         cube %.2f s, stack %.2f s, appearance %.2f s, k-coherence %.2f s, "
+                       "cache write %.2f s\n",
+                       pi->stage_seconds[0], pi->stage_seconds[1], pi->stage_seconds[2],
+                       pi->stage_seconds[3], pi->stage_seconds[4]);
     /* Say how many texels were synthesized: a magnified planet delivers m^2 times more. */
     pg_cli_info(cli,
                 "planet   6 x %ld^2 tiles of %ld^2 = %.1f Mpx; synthesized %.1f Mpx at the "
@@ -383,7 +383,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(res, "exemplar_prep_seconds", pi->seconds);
     pg_json_set_bool(res, "exemplar_from_cache", pi->from_cache);
     if (!pi->from_cache) { /* the preparation's own stages (pg_synth_prep_info) */
-        static const char *names[5] = {"cube", "stack", "appearance", "kcoherence", "cache_write"};
+        static const char *const names[5] = {"cube", "stack", "appearance", "kcoherence",
+                                             "cache_write"};
         pg_json *ps = pg_json_set_object(res, "exemplar_prep_stages");
         for (int i = 0; i < 5; i++)
             pg_json_set_number(ps, names[i], pi->stage_seconds[i]);
