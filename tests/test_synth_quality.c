@@ -329,9 +329,10 @@ static void test_project_batches(void **state) {
         pg_appearance_project_n(ex, s, (const float(*)[PG_SYNTH_RAW])raw, NV, batch);
         for (int t = 0; t < NV; t++) {
             pg_appearance_project(ex, s, raw[t], one);
-            if (memcmp(one, batch + (size_t)t * PG_SYNTH_MAX_DIMS, ex->dims * sizeof(float)))
-                fail_msg("level %d, vector %d: batch %a, alone %a (first component)", s, t,
-                         batch[(size_t)t * PG_SYNTH_MAX_DIMS], one[0]);
+            for (int k = 0; k < ex->dims; k++)
+                if (memcmp(&one[k], &batch[(size_t)t * PG_SYNTH_MAX_DIMS + k], sizeof(float)))
+                    fail_msg("level %d, vector %d, component %d: batch %a, alone %a", s, t, k,
+                             batch[(size_t)t * PG_SYNTH_MAX_DIMS + k], one[k]);
         }
     }
 }

@@ -103,7 +103,7 @@ accumulate_row(const pg_synth_faces *f, int face, int y, int h, int stride, cov_
         for (int i = 0; i < PG_SYNTH_RAW; i++) {
             a->sum[i] += rd[i];
             const double ri = rd[i];
-            double *row = a->cross + tri_row(i) - i; /* row[j], j >= i */
+            double *row = a->cross + (tri_row(i) - i); /* row[j], j >= i */
             for (int j = i; j < PG_SYNTH_RAW; j++)
                 row[j] += ri * rd[j];
         }
@@ -129,7 +129,7 @@ static pg_status covariance(const pg_synth_faces *f, int h, double *mean, double
         for (int i = 0; i < PG_SYNTH_RAW; i++)
             mean[i] += acc[c].sum[i];
         for (int i = 0; i < PG_SYNTH_RAW; i++) {
-            const double *row = acc[c].cross + tri_row(i) - i;
+            const double *row = acc[c].cross + (tri_row(i) - i);
             for (int j = i; j < PG_SYNTH_RAW; j++)
                 cov[i * PG_SYNTH_RAW + j] += row[j];
         }
@@ -229,8 +229,9 @@ static int principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, in
 #if defined(__GNUC__) || defined(__clang__)
 /* pg_appearance_project on PROJECT_BATCH texels at once, one texel per vector lane:
  * each lane does the same IEEE operations in the same order as pg_appearance_project
- * (4 partial sums over i stepping by 4, then (l0 + l1) + (l2 + l3); the build is ISO
- * C, so nothing is contracted into a fused multiply-add), hence the same bits, with
+ * (4 partial sums over i stepping by 4, then (l0 + l1) + (l2 + l3); GCC builds ISO C
+ * without contracting into fused multiply-adds, and a compiler that contracts does so
+ * in both forms alike), hence the same bits, with
  * half the instructions of its 4-lane form in the AVX2 clone. */
 typedef float batch_v __attribute__((vector_size(4 * PROJECT_BATCH)));
 

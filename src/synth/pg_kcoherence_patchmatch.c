@@ -138,6 +138,10 @@ static uint32_t window_coord(const pm_ctx *c, int face, int x, int y, int r, int
     return pg_synth_offset(c->ex, b, du, dv);
 }
 
+/* The most candidates search_coords gives: one window per factor 4 from E/2 down to 1
+ * (log4(E/2) + 1, 8 at E = 8192) and one anywhere; 16 holds faces up to 2^30. */
+#define SEARCH_MAX 16
+
 /* The random search's candidates of texel (x, y) around a fixed best b: windows
  * shrinking 4x from E/2, then one anywhere (into out; returns how many). */
 static int search_coords(const pm_ctx *c, int face, int x, int y, int it, uint32_t b,
@@ -172,12 +176,14 @@ static void prefetch_visit(const pm_ctx *c, int face, int x, int y, int it, int 
         for (int i = 0; ne && i < c->kk; i++)
             prefetch_app(c, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
     }
-    uint32_t q[16];
+    uint32_t q[SEARCH_MAX];
     int k = search_coords(c, face, x, y, it, c->table[(((size_t)face * E + y) * E + x) * c->kk], q);
     for (int i = 0; i < k; i++)
         prefetch_app(c, q[i]);
 }
 
+/* One PatchMatch step at lattice texel (x, y): propagation from its two visited lattice
+ * neighbours, then the random search around its best, each candidate offered in turn. */
 static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
     const int E = c->E;
     size_t t = ((size_t)face * E + y) * E + x;
@@ -199,6 +205,8 @@ static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
     offer(c, self, t, random_coord(c, face, x, y, salt));
 }
 
+/* Visit (x, y), then prefetch for the next lattice texel of the scan, (nx, ny), when it is
+ * on the face. */
 static void visit_next(pm_ctx *c, int face, int x, int y, int it, int dir, int nx, int ny) {
     visit(c, face, x, y, it, dir);
     if (nx >= 0 && ny >= 0 && nx < c->E && ny < c->E) prefetch_visit(c, face, nx, ny, it, dir);
