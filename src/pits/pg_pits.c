@@ -53,9 +53,11 @@ const char *pg_pits_citation(const pg_pits_opts *o) {
         return "breaching along the descent tree of the minimal epsilon-surface (no flood "
                "order): Soille (2004), Water Resources Research 40:W12509, carving, on the "
                "surface of Planchon & Darboux (2002), Catena 46:159-176";
-    return "selective breaching (hybrid) along the descent tree of the minimal "
-           "epsilon-surface (no flood order): Lindsay (2016), Hydrological Processes "
-           "30(6):846-857, limits on Soille (2004) carving";
+    if (o->method == PG_PITS_HYBRID)
+        return "selective breaching (hybrid) along the descent tree of the minimal "
+               "epsilon-surface (no flood order): Lindsay (2016), Hydrological Processes "
+               "30(6):846-857, limits on Soille (2004) carving";
+    return pg_pits_method_citation(o->method);
 }
 
 static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

@@ -119,6 +119,7 @@ pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_syn
     return PG_OK;
 }
 
+/* The one place that says how the synthesis removes pits (declared in pg_planet_synth.h). */
 void pg_planet_synth_pits_opts(pg_pits_method m, float sea_level, pg_pits_opts *o) {
     pg_pits_opts_default(o);
     o->method = m;
