@@ -259,7 +259,7 @@ static void test_cold_prep_stages(void **state) {
     snprintf(path, sizeof path, "%s/r.json", dir);
     const char *json = slurp(path);
     const char *tot = strstr(json, "\"exemplar_prep_seconds\": ");
-    const char *st = strstr(json, "\"exemplar_prep_stages\"");
+    const char *st = strstr(json, "\"exemplar_prep_stage_seconds\"");
     if (!tot || !st) fail_msg("no preparation record in %s", json);
     char obj[1024]; /* the stages' object alone, so that no other key can answer */
     const char *end = strchr(st, '}');
@@ -286,7 +286,7 @@ static void test_cold_prep_stages(void **state) {
     if (rc != 0) fail_msg("exit %d: %s", rc, err);
     json = slurp(path);
     assert_non_null(strstr(json, "\"exemplar_from_cache\": true"));
-    assert_null(strstr(json, "\"exemplar_prep_stages\""));
+    assert_null(strstr(json, "\"exemplar_prep_stage_seconds\""));
 }
 
 int main(void) {

@@ -385,7 +385,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     if (!pi->from_cache) { /* the preparation's own stages (pg_synth_prep_info) */
         static const char *const names[5] = {"cube", "stack", "appearance", "kcoherence",
                                              "cache_write"};
-        pg_json *ps = pg_json_set_object(res, "exemplar_prep_stages");
+        pg_json *ps = pg_json_set_object(res, "exemplar_prep_stage_seconds");
         for (int i = 0; i < 5; i++)
             pg_json_set_number(ps, names[i], pi->stage_seconds[i]);
     }
