@@ -106,6 +106,14 @@ static inline bool pg_ps_owns(const pg_ps_ctx *c, int f, int tx, int ty) {
     return !d || d->owns(d->user, f, tx, ty);
 }
 
+/* Does Gain-pit run after the passes of level `scale` (r texels per face edge)? Not at the
+ * finest p->pit_skip_levels, nor on a level of one texel per face (the coarsest of a planet
+ * with N = 32), which has no grid to drain on: the next level's pass and the final pass see
+ * its texels. */
+static inline bool pg_ps_gainpit_at(const pg_ps_ctx *c, int scale, int r) {
+    return c->p->pits && scale >= c->p->pit_skip_levels && r >= 2;
+}
+
 /* Distributed pit removal for a level of r texels per face edge: the hook, when the
  * tiles divide the level (coarser levels are gathered: at most T^2 texels a face). */
 static inline bool pg_ps_dist_pits(const pg_ps_ctx *c, int r) {

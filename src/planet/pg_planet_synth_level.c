@@ -23,7 +23,7 @@ pg_ps_window pg_ps_level_window(const pg_ps_ctx *c, int scale, int r) {
     for (int f = 0; f < 6; f++)
         w.y0[f] = 0, w.y1[f] = r;
     if (!p->dist || scale == c->s_top || r % c->T != 0) return w;
-    if (p->pits && scale >= p->pit_skip_levels && !pg_ps_dist_pits(c, r)) return w;
+    if (pg_ps_gainpit_at(c, scale, r) && !pg_ps_dist_pits(c, r)) return w;
     if (p->layout == PG_LAYOUT_EARTH && c->keep > 0 && scale == c->s_top - c->keep + 1 &&
         !pg_ps_dist_sum(c, r))
         return w;

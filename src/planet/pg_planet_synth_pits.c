@@ -141,9 +141,7 @@ static void guide_only(const pg_ps_ctx *c, int scale, pg_ps_level *L, const leve
  * agree; docs/mpi.md). The texels outside the owned tiles are stale either way and
  * are refreshed by the next exchange before anything reads them. */
 pg_status pg_ps_after_pass(pg_ps_ctx *c, int scale, pg_ps_level *L, pg_error *err) {
-    /* A level of one texel per face (the coarsest of a planet with N = 2^(levels-1)) has no
-     * grid to drain on; the next level's pass and the final pass see its texels. */
-    bool pits = c->p->pits && scale >= c->p->pit_skip_levels && L->r >= 2;
+    bool pits = pg_ps_gainpit_at(c, scale, L->r);
     if (!pits && !c->guide) return PG_OK;
     if (!pits) {
         const level_rows lr = rows_of(c, L->r, c->p->dist != NULL);
