@@ -6,9 +6,12 @@
  * (landmasses, mountain belts on convergent boundaries, ocean and land mean heights).
  * The warped detail (pg_plates_detail) moves directions by about a source texel, no
  * more than three, the same way for any thread count and seamlessly across faces.
+ * Every direction lies within the grid's texel reach of the centre of the texel found
+ * for it, which the gather's plate caps rely on to skip lookups without changing bits.
  * Renders the preview maps into the scratch directory and prints the timing. */
 #include "pg_test.h"
 
+#include "pg_plates_internal.h"
 #include "planetgen/pg_plates.h"
 
 #include <math.h>
@@ -383,13 +386,60 @@ static void test_detail_warp(void **state) {
     free(in), free(a), free(b);
 }
 
+/* pg_plates_grid's texel_reach bounds the angle from a direction to the centre of the
+ * texel pg_plates_grid_nearest gives for it, in every projection: the gather's plate caps
+ * (pg_plates_cortial2019.c) skip a plate only when no alive texel can be that near. The
+ * directions are a dense Fibonacci sphere plus points next to every texel corner, where
+ * the reach is attained. */
+static void test_texel_reach(void **state) {
+    (void)state;
+    const pg_cube_projection projs[3] = {PG_CUBE_GNOMONIC, PG_CUBE_EQUIANGULAR, PG_CUBE_EQUALAREA};
+    for (int pi = 0; pi < 3; pi++)
+        for (int64_t n = 16; n <= 64; n *= 4) {
+            pg_plates_grid g;
+            pg_error err = {0};
+            assert_int_equal(pg_plates_grid_init(&g, n, projs[pi], 6371, &err), PG_OK);
+            const double texel = PG_PI / 2 / (double)n;
+            assert_true(g.texel_reach > 0.5 * texel && g.texel_reach < 3 * texel);
+            double worst = 0;
+            const int64_t m = 400000;
+            for (int64_t i = 0; i < m + 4 * g.count; i++) {
+                double d[3];
+                if (i < m) { /* Fibonacci sphere */
+                    double z = 1 - (2 * (double)i + 1) / (double)m, r = sqrt(1 - z * z);
+                    double a = (double)i * PG_PI * (3 - sqrt(5.0));
+                    d[0] = r * cos(a), d[1] = r * sin(a), d[2] = z;
+                } else { /* 1e-6 of a texel from corner k of texel t, towards its centre */
+                    int64_t t = (i - m) / 4;
+                    int k = (int)((i - m) % 4), f = (int)(t / (n * n));
+                    double u = 2.0 * (double)(t % n + (k & 1)) / (double)n - 1,
+                           v = 2.0 * (double)(t / n % n + (k >> 1)) / (double)n - 1, c[3];
+                    pg_cube_to_dir(projs[pi], f, u, v, c);
+                    double len = 0;
+                    for (int j = 0; j < 3; j++)
+                        d[j] = c[j] + 1e-6 * (g.dir[3 * t + j] - c[j]), len += d[j] * d[j];
+                    for (int j = 0; j < 3; j++)
+                        d[j] /= sqrt(len);
+                }
+                int64_t t = pg_plates_grid_nearest(&g, d);
+                worst = fmax(worst, pg_plates_angle(d, g.dir + 3 * t));
+            }
+            print_message("projection %d, n = %lld: texel reach %.3f texels, farthest direction "
+                          "found %.3f\n",
+                          pi, (long long)n, g.texel_reach / texel, worst / texel);
+            assert_true(worst <= g.texel_reach * (1 + 1e-9));
+            assert_true(worst > 0.9 * g.texel_reach); /* the corners come close to it */
+            pg_plates_grid_free(&g);
+        }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),       cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_plate_areas),     cmocka_unit_test(test_boundary_kinds),
         cmocka_unit_test(test_land_fraction),   cmocka_unit_test(test_render),
         cmocka_unit_test(test_macro_structure), cmocka_unit_test(test_hypsometry),
-        cmocka_unit_test(test_detail_warp),
+        cmocka_unit_test(test_detail_warp),     cmocka_unit_test(test_texel_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -96,6 +96,11 @@ typedef struct pg_plates_sim {
     uint8_t *fill;  /* closing marks, np * count */
     float *dist;    /* NKINDS count, as mark */
     float *uplift;
+    /* Each plate's cap for the gather: world direction cap[k] and cos_reach[k] such that
+     * a world texel p with p . cap[k] < cos_reach[k] cannot see an alive texel of k
+     * (pg_plates_caps). */
+    double cap[PG_PLATES_MAX][3];
+    double cos_reach[PG_PLATES_MAX];
 } pg_plates_sim;
 
 static void pg_plates_to_body(const pg_plates_sim *m, int k, const double p[3], double out[3]) {
@@ -133,14 +138,51 @@ static int pg_plates_overrides(const pg_plates_sim *m, int k, int64_t b, int w, 
     return k < w;
 }
 
+/* The caps that let the gather skip plates far from a world texel. Plate k's alive body
+ * texels lie within angle theta of their mean direction c. The body texel nearest to
+ * R_k^T p is the one whose cell contains that direction, so its centre lies within the
+ * grid's texel reach rho of it: if angle(p, R_k c) > theta + rho, no alive texel of k is
+ * nearest, and the lookup can be skipped without changing any result. The test uses
+ * twice rho, which also covers cells whose edges bulge past their corners and the
+ * rounding of the dot products. A plate with no alive texel gets an empty cap. */
+static void pg_plates_caps(pg_plates_sim *m) {
+    const pg_plates_grid *g = m->g;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < m->np; k++) {
+        const uint8_t *alive = m->body[k].alive;
+        double c[3] = {0, 0, 0};
+        for (int64_t b = 0; b < g->count; b++)
+            if (alive[b])
+                for (int i = 0; i < 3; i++)
+                    c[i] += g->dir[3 * b + i];
+        double len = sqrt(pg_vec3_dot(c, c)), lo = 1;
+        if (len > 0) {
+            for (int i = 0; i < 3; i++)
+                c[i] /= len;
+            for (int64_t b = 0; b < g->count; b++)
+                if (alive[b]) {
+                    double d = pg_vec3_dot(c, g->dir + 3 * b);
+                    lo = d < lo ? d : lo;
+                }
+        } else {
+            c[0] = 1;
+        }
+        double reach = acos(lo > 1 ? 1 : (lo < -1 ? -1 : lo)) + 2 * g->texel_reach;
+        m->cos_reach[k] = len == 0 ? 2 : (reach >= PG_PLATES_PI ? -2 : cos(reach));
+        pg_plates_to_world(m, k, c, m->cap[k]);
+    }
+}
+
 static void pg_plates_gather(pg_plates_sim *m, pg_plates_state *s) {
     const pg_plates_grid *g = m->g;
+    pg_plates_caps(m);
 #pragma omp parallel for schedule(static)
     for (int64_t p = 0; p < g->count; p++) {
         int win = -1, lost_ocean = 0;
         int64_t wb = -1;
         uint8_t lost_cont = PG_PLATES_GAP;
         for (int k = 0; k < m->np; k++) {
+            if (pg_vec3_dot(g->dir + 3 * p, m->cap[k]) < m->cos_reach[k]) continue;
             double q[3];
             pg_plates_to_body(m, k, g->dir + 3 * p, q);
             int64_t b = pg_plates_grid_nearest(g, q);

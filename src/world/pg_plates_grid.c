@@ -20,8 +20,9 @@ static int64_t pg_plates_pow2_divisor(int64_t n) {
     return s;
 }
 
+/* The texel's area on the unit sphere; *reach gets the largest angle from centre to a corner. */
 static double pg_plates_texel_area(pg_cube_projection proj, int64_t n, int face, int64_t x,
-                                   int64_t y) {
+                                   int64_t y, const double centre[3], double *reach) {
     double c[4][3];
     double u0 = 2.0 * (double)x / (double)n - 1, u1 = 2.0 * (double)(x + 1) / (double)n - 1;
     double v0 = 2.0 * (double)y / (double)n - 1, v1 = 2.0 * (double)(y + 1) / (double)n - 1;
@@ -29,6 +30,11 @@ static double pg_plates_texel_area(pg_cube_projection proj, int64_t n, int face,
     pg_cube_to_dir(proj, face, u1, v0, c[1]);
     pg_cube_to_dir(proj, face, u1, v1, c[2]);
     pg_cube_to_dir(proj, face, u0, v1, c[3]);
+    *reach = 0;
+    for (int k = 0; k < 4; k++) {
+        double a = pg_plates_angle(centre, c[k]);
+        *reach = a > *reach ? a : *reach;
+    }
     return pg_cube_spherical_triangle(c[0], c[1], c[2]) +
            pg_cube_spherical_triangle(c[0], c[2], c[3]);
 }
@@ -53,14 +59,17 @@ pg_status pg_plates_grid_init(pg_plates_grid *g, int64_t n, pg_cube_projection p
         return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for a %lld^2 cube grid",
                             (long long)n);
     }
-    double r2 = radius_km * radius_km;
-#pragma omp parallel for schedule(static)
+    double r2 = radius_km * radius_km, reach = 0;
+#pragma omp parallel for schedule(static) reduction(max : reach)
     for (int64_t t = 0; t < g->count; t++) {
         int face = (int)(t / (n * n));
         int64_t x = t % n, y = (t / n) % n;
+        double rt;
         pg_cube_texel_dir(&cg, t, g->dir + 3 * t);
-        g->area[t] = (float)(pg_plates_texel_area(proj, n, face, x, y) * r2);
+        g->area[t] = (float)(pg_plates_texel_area(proj, n, face, x, y, g->dir + 3 * t, &rt) * r2);
+        reach = rt > reach ? rt : reach;
     }
+    g->texel_reach = reach;
 #pragma omp parallel for schedule(static)
     for (int64_t t = 0; t < g->count; t++) {
         int face = (int)(t / (n * n));

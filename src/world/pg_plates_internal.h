@@ -47,6 +47,7 @@ typedef struct pg_plates_grid {
     int64_t *nbr;
     float *nlen;
     pg_cube_texel_finder find; /* pg_plates_grid_nearest's tables */
+    double texel_reach; /* largest angle from a texel's centre to one of its corners, radians */
 } pg_plates_grid;
 
 /* ---- hashing and noise (pg_plates_noise.c) ---- */
