@@ -298,9 +298,15 @@ static pg_status pg_plates_uplift(pg_plates_sim *m, const pg_plates_state *s, pg
     return PG_OK;
 }
 
-static double pg_plates_hotspot(const pg_plates_world *w, const double p[3], double radius_km) {
+/* A hotspot reaches 3 PG_PLATES_HOT_KM. Most body texels are far from every hotspot, so a
+ * dot product against cos_far (the cosine of a slightly larger angle) skips the exact
+ * angle (an atan2) where it cannot be in reach; the texels it keeps get the same figure
+ * as without it. */
+static double pg_plates_hotspot(const pg_plates_world *w, const double p[3], double radius_km,
+                                double cos_far) {
     double r = 0;
     for (int h = 0; h < w->nhotspots; h++) {
+        if (pg_vec3_dot(p, w->hotspot_dir[h]) < cos_far) continue;
         double d = pg_plates_angle(p, w->hotspot_dir[h]) * radius_km / PG_PLATES_HOT_KM;
         if (d < 3) r += exp(-d * d);
     }
@@ -314,6 +320,8 @@ static void pg_plates_update_bodies(pg_plates_sim *m, double dt, const pg_plates
     for (int k = 0; k < m->np; k++)
         memcpy(m->snap + k * c, m->body[k].alive, (size_t)c);
     double keep_c = exp(-dt / PG_PLATES_TAU_CONT), keep_o = exp(-dt / PG_PLATES_TAU_OCEAN);
+    /* 1.01 times the reach, so that rounding in the dot product cannot drop a texel in reach */
+    const double cos_far = cos(fmin(PG_PLATES_PI, 1.01 * 3 * PG_PLATES_HOT_KM / g->radius_km));
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < m->np * c; i++) {
         int k = (int)(i / c);
@@ -334,7 +342,7 @@ static void pg_plates_update_bodies(pg_plates_sim *m, double dt, const pg_plates
             continue;
         }
         int cont = B->crust[b] == PG_PLATES_CONTINENTAL;
-        double hot = pg_plates_hotspot(m->w, q, g->radius_km) * (cont ? 0.25 : 1.0);
+        double hot = pg_plates_hotspot(m->w, q, g->radius_km, cos_far) * (cont ? 0.25 : 1.0);
         B->relief[b] = (float)(B->relief[b] * (cont ? keep_c : keep_o) + (m->uplift[p] + hot) * dt);
         B->age[b] += (float)dt;
     }
