@@ -101,64 +101,58 @@ int64_t pg_plates_grid_nearest(const pg_plates_grid *g, const double d[3]) {
     return pg_cube_texel_find(&f, d);
 }
 
-/* A binary min-heap of (distance, texel); ties order by texel id so pops are unique. */
+/* A binary min-heap of (distance, texel), each entry one 64-bit word: the distance's
+ * float bits above the texel id. Distances are >= 0, and the bits of non-negative
+ * floats order as their values, so comparing words orders by distance, then by texel
+ * id on ties: pops are unique, and one compare and one move per step replace two. */
 typedef struct pg_plates_heap {
-    float *key;
-    int64_t *id;
+    uint64_t *e;
     int64_t size;
 } pg_plates_heap;
 
-static int pg_plates_less(const pg_plates_heap *h, int64_t a, int64_t b) {
-    return h->key[a] < h->key[b] || (h->key[a] == h->key[b] && h->id[a] < h->id[b]);
-}
-
-static void pg_plates_swap(pg_plates_heap *h, int64_t a, int64_t b) {
-    float k = h->key[a];
-    int64_t i = h->id[a];
-    h->key[a] = h->key[b];
-    h->id[a] = h->id[b];
-    h->key[b] = k;
-    h->id[b] = i;
+static uint64_t pg_plates_entry(float key, int64_t id) {
+    uint32_t bits;
+    memcpy(&bits, &key, sizeof bits);
+    return (uint64_t)bits << 32 | (uint64_t)id;
 }
 
 static void pg_plates_push(pg_plates_heap *h, float key, int64_t id) {
+    uint64_t x = pg_plates_entry(key, id);
     int64_t i = h->size++;
-    h->key[i] = key;
-    h->id[i] = id;
-    while (i > 0 && pg_plates_less(h, i, (i - 1) / 2)) {
-        pg_plates_swap(h, i, (i - 1) / 2);
+    while (i > 0 && x < h->e[(i - 1) / 2]) {
+        h->e[i] = h->e[(i - 1) / 2];
         i = (i - 1) / 2;
     }
+    h->e[i] = x;
 }
 
 static void pg_plates_pop(pg_plates_heap *h, float *key, int64_t *id) {
-    *key = h->key[0];
-    *id = h->id[0];
-    h->size--;
-    h->key[0] = h->key[h->size];
-    h->id[0] = h->id[h->size];
+    uint64_t top = h->e[0], x = h->e[--h->size];
+    uint32_t bits = (uint32_t)(top >> 32);
+    memcpy(key, &bits, sizeof *key);
+    *id = (int64_t)(top & 0xffffffffu);
     int64_t i = 0;
     for (;;) {
-        int64_t l = 2 * i + 1, r = l + 1, m = i;
-        if (l < h->size && pg_plates_less(h, l, m)) m = l;
-        if (r < h->size && pg_plates_less(h, r, m)) m = r;
+        int64_t l = 2 * i + 1, m = i;
+        uint64_t v = x;
+        if (l < h->size && h->e[l] < v) m = l, v = h->e[l];
+        if (l + 1 < h->size && h->e[l + 1] < v) m = l + 1, v = h->e[l + 1];
         if (m == i) break;
-        pg_plates_swap(h, i, m);
+        h->e[i] = v;
         i = m;
     }
+    h->e[i] = x;
 }
 
 pg_status pg_plates_grid_distance(const pg_plates_grid *g, const uint8_t *src, const uint8_t *plate,
                                   float *dist, pg_error *err) {
     /* Each texel is pushed at most once per improvement over 8 edges: 9 * count bounds
      * the heap. */
-    pg_plates_heap h = {malloc(sizeof(float) * 9 * (size_t)g->count),
-                        malloc(sizeof(int64_t) * 9 * (size_t)g->count), 0};
-    if (!h.key || !h.id) {
-        free(h.key);
-        free(h.id);
-        return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for distances");
-    }
+    if (g->count > (int64_t)UINT32_MAX)
+        return pg_error_set(err, PG_ERR_BADINPUT, "plates: %lld texels are too many",
+                            (long long)g->count);
+    pg_plates_heap h = {malloc(sizeof(uint64_t) * 9 * (size_t)g->count), 0};
+    if (!h.e) return pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for distances");
     for (int64_t t = 0; t < g->count; t++) {
         dist[t] = src[t] ? 0.0f : INFINITY;
         if (src[t]) pg_plates_push(&h, 0.0f, t);
@@ -178,8 +172,7 @@ pg_status pg_plates_grid_distance(const pg_plates_grid *g, const uint8_t *src, c
             }
         }
     }
-    free(h.key);
-    free(h.id);
+    free(h.e);
     return PG_OK;
 }
 
