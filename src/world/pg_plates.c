@@ -90,7 +90,8 @@ static pg_status pg_plates_alloc(pg_plates_world *w, int64_t count, int np, pg_e
                         (long long)count);
 }
 
-pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg_error *err) {
+static pg_status generate(const pg_plates_params *p, pg_plates_world *out, bool caps,
+                          pg_error *err) {
     pg_status st = pg_plates_check(p, err);
     if (st != PG_OK) return st;
     if (!out) return pg_error_set(err, PG_ERR_BADINPUT, "plates: no output world");
@@ -109,7 +110,7 @@ pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg
     if (st == PG_OK && (!s.plate || !s.crust || !s.age || !s.relief))
         st = pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for the crust state");
     if (st == PG_OK) st = pg_plates_seed(p, &g, out, &s, err);
-    if (st == PG_OK) st = pg_plates_simulate(p, &g, out, &s, err);
+    if (st == PG_OK) st = pg_plates_simulate(p, &g, out, &s, caps, err);
     if (st == PG_OK) st = pg_plates_relief(p, &g, out, &s, err);
     if (st == PG_OK) {
         memcpy(out->area_km2, g.area, sizeof(float) * (size_t)g.count);
@@ -126,4 +127,13 @@ pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg
     pg_plates_grid_free(&g);
     if (st != PG_OK) pg_plates_world_free(out);
     return st;
+}
+
+pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg_error *err) {
+    return generate(p, out, true, err);
+}
+
+pg_status pg_plates_generate_uncapped(const pg_plates_params *p, pg_plates_world *out,
+                                      pg_error *err) {
+    return generate(p, out, false, err);
 }

@@ -101,6 +101,7 @@ typedef struct pg_plates_sim {
      * (pg_plates_caps). */
     double cap[PG_PLATES_MAX][3];
     double cos_reach[PG_PLATES_MAX];
+    bool caps; /* use them (pg_plates_generate_uncapped turns them off) */
 } pg_plates_sim;
 
 static void pg_plates_to_body(const pg_plates_sim *m, int k, const double p[3], double out[3]) {
@@ -151,12 +152,16 @@ static void pg_plates_caps(pg_plates_sim *m) {
     for (int k = 0; k < m->np; k++) {
         const uint8_t *alive = m->body[k].alive;
         double c[3] = {0, 0, 0};
+        int64_t nalive = 0;
         for (int64_t b = 0; b < g->count; b++)
-            if (alive[b])
+            if (alive[b]) {
+                nalive++;
                 for (int i = 0; i < 3; i++)
                     c[i] += g->dir[3 * b + i];
-        double len = sqrt(pg_vec3_dot(c, c)), lo = 1;
+            }
+        double len = sqrt(pg_vec3_dot(c, c)), lo = -1; /* crust whose directions cancel: no cap */
         if (len > 0) {
+            lo = 1;
             for (int i = 0; i < 3; i++)
                 c[i] /= len;
             for (int64_t b = 0; b < g->count; b++)
@@ -168,7 +173,9 @@ static void pg_plates_caps(pg_plates_sim *m) {
             c[0] = 1;
         }
         double reach = acos(lo > 1 ? 1 : (lo < -1 ? -1 : lo)) + 2 * g->texel_reach;
-        m->cos_reach[k] = len == 0 ? 2 : (reach >= PG_PLATES_PI ? -2 : cos(reach));
+        m->cos_reach[k] = !m->caps      ? -2
+                          : nalive == 0 ? 2
+                                        : (reach >= PG_PLATES_PI ? -2 : cos(reach));
         pg_plates_to_world(m, k, c, m->cap[k]);
     }
 }
@@ -299,9 +306,10 @@ static pg_status pg_plates_uplift(pg_plates_sim *m, const pg_plates_state *s, pg
 }
 
 /* A hotspot reaches 3 PG_PLATES_HOT_KM. Most body texels are far from every hotspot, so a
- * dot product against cos_far (the cosine of a slightly larger angle) skips the exact
- * angle (an atan2) where it cannot be in reach; the texels it keeps get the same figure
- * as without it. */
+ * dot product against cos_far (the cosine of a slightly larger angle, less a margin for
+ * the dot product's rounding; -2 when that angle reaches pi) skips the exact angle (an
+ * atan2) where it cannot be in reach; the texels it keeps get the same figure as
+ * without it. */
 static double pg_plates_hotspot(const pg_plates_world *w, const double p[3], double radius_km,
                                 double cos_far) {
     double r = 0;
@@ -320,8 +328,8 @@ static void pg_plates_update_bodies(pg_plates_sim *m, double dt, const pg_plates
     for (int k = 0; k < m->np; k++)
         memcpy(m->snap + k * c, m->body[k].alive, (size_t)c);
     double keep_c = exp(-dt / PG_PLATES_TAU_CONT), keep_o = exp(-dt / PG_PLATES_TAU_OCEAN);
-    /* 1.01 times the reach, so that rounding in the dot product cannot drop a texel in reach */
-    const double cos_far = cos(fmin(PG_PLATES_PI, 1.01 * 3 * PG_PLATES_HOT_KM / g->radius_km));
+    const double far = 1.01 * 3 * PG_PLATES_HOT_KM / g->radius_km,
+                 cos_far = far >= PG_PLATES_PI ? -2 : cos(far) - 1e-12;
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < m->np * c; i++) {
         int k = (int)(i / c);
@@ -475,8 +483,8 @@ static void pg_plates_sim_free(pg_plates_sim *m) {
 }
 
 pg_status pg_plates_simulate(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
-                             pg_plates_state *s, pg_error *err) {
-    pg_plates_sim m = {.g = g, .w = w, .np = p->plates};
+                             pg_plates_state *s, bool caps, pg_error *err) {
+    pg_plates_sim m = {.g = g, .w = w, .np = p->plates, .caps = caps};
     pg_status st = pg_plates_sim_alloc(&m, err);
     if (st != PG_OK) goto done;
     for (int k = 0; k < m.np; k++) {

@@ -1,6 +1,7 @@
 /* pg_plates_grid.c - the cube sphere as a graph for the plate model: texel centres,
- * texel areas, 8-neighbour adjacency across seams, nearest texel of a direction, and
- * multi-source shortest paths (Dijkstra 1959) over that graph.
+ * texel areas and reach (centre to farthest corner), 8-neighbour adjacency across seams,
+ * nearest texel of a direction, and multi-source shortest paths (Dijkstra 1959) over
+ * that graph.
  *
  * Texel areas are exact on the sphere: each texel is split into two spherical
  * triangles of its corner directions (pg_cube_spherical_triangle), so the areas add up
@@ -109,6 +110,8 @@ typedef struct pg_plates_heap {
     uint64_t *e;
     int64_t size;
 } pg_plates_heap;
+
+_Static_assert(sizeof(float) == sizeof(uint32_t), "a heap entry packs a float's bits");
 
 static uint64_t pg_plates_entry(float key, int64_t id) {
     uint32_t bits;

@@ -10,6 +10,9 @@
  *                         across seams through pg_cube_wrap, so at the 8 cube vertices a
  *                         corner neighbour may repeat an edge neighbour
  *     nlen[8*t + d]       great-circle distance in km from t to that neighbour
+ *     texel_reach         the largest angle from a texel's centre to one of its corners:
+ *                         a direction lies within it of the texel found for it, which
+ *                         the gather's plate caps rely on (pg_plates_cortial2019.c)
  */
 #ifndef PG_PLATES_INTERNAL_H
 #define PG_PLATES_INTERNAL_H
@@ -18,6 +21,7 @@
 #include "pg_vec3.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 #define PG_PLATES_PI 3.14159265358979323846
@@ -102,9 +106,14 @@ typedef struct pg_plates_state {
 
 pg_status pg_plates_seed(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
                          pg_plates_state *s, pg_error *err);
-/* Move the plates for p->steps steps (pg_plates_cortial2019.c). */
+/* Move the plates for p->steps steps (pg_plates_cortial2019.c). caps: the gather skips
+ * plates by their caps (always, but for the test below: the result is the same). */
 pg_status pg_plates_simulate(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
-                             pg_plates_state *s, pg_error *err);
+                             pg_plates_state *s, bool caps, pg_error *err);
+/* TEST ONLY: pg_plates_generate with the gather's plate caps off, which must give the same
+ * world byte for byte (tests/test_plates.c). */
+pg_status pg_plates_generate_uncapped(const pg_plates_params *p, pg_plates_world *out,
+                                      pg_error *err);
 /* Compose the final elevation and set sea level (pg_plates_relief.c). */
 pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
                            const pg_plates_state *s, pg_error *err);
