@@ -248,11 +248,49 @@ static void test_bad_input(void **state) {
     pg_planet_free(&p);
 }
 
+/* A byte GeoTIFF rounds as the PNG writer does: 65 536 values, the floats closest to
+ * each half step between two bytes, come back from a GeoTIFF and a PNG as the same
+ * bytes, lround(v 255). (It used to round v * 255 + 0.5 in float and moved some values up by one:
+ * the albedo GeoTIFF of a planet under MPI, read back from the ranks' PNG tiles, then differed from
+ * one process's.) */
+static void test_geotiff_byte_rounding(void **state) {
+    (void)state;
+    char dir[1024], tif[1100], png[1100];
+    pg_test_scratch_dir("export_geotiff_rounding", dir, sizeof dir);
+    snprintf(tif, sizeof tif, "%s/r.tif", dir);
+    snprintf(png, sizeof png, "%s/r.png", dir);
+    pg_error err = {0};
+    pg_image img, a, b;
+    assert_int_equal(pg_image_alloc(&img, 256, 256, 1, &err), PG_OK);
+    /* for every step k, the 257 floats around (k + 1/2) / 255: whether each rounds up
+     * or down is decided in the last bits */
+    for (int i = 0; i < 65536; i++) {
+        float v = (float)(((i / 257) + 0.5) / 255.0);
+        for (int j = i % 257 - 128; j < 0; j++)
+            v = nextafterf(v, 0.0f);
+        for (int j = i % 257 - 128; j > 0; j--)
+            v = nextafterf(v, 2.0f);
+        img.data[i] = v;
+    }
+    assert_int_equal(pg_raster_write_geotiff(tif, &img, PG_RASTER_BYTE, NULL, NULL, &err), PG_OK);
+    assert_int_equal(pg_image_write_png(png, &img, 8, &err), PG_OK);
+    assert_int_equal(pg_raster_read(tif, 0, &a, NULL, &err), PG_OK);
+    assert_int_equal(pg_image_read(png, 0, &b, &err), PG_OK);
+    int differ = 0;
+    for (int i = 0; i < 65536; i++) {
+        /* both read back as the files' raw bytes */
+        const long want = lround((double)img.data[i] * 255.0);
+        differ += lround(a.data[i]) != want || lround(b.data[i]) != want;
+    }
+    assert_int_equal(differ, 0);
+    pg_image_free(&img), pg_image_free(&a), pg_image_free(&b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_geotiff_wgs84), cmocka_unit_test(test_geotiff_other_sphere),
         cmocka_unit_test(test_geotiff_tiled), cmocka_unit_test(test_generate_geotiff),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_bad_input),     cmocka_unit_test(test_geotiff_byte_rounding),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

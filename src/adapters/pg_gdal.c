@@ -15,6 +15,8 @@
  * which the handler turns into a refusal). */
 #include "planetgen/pg_raster.h"
 
+#include "pg_quantise.h"
+
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
@@ -353,9 +355,12 @@ pg_status pg_raster_write_geotiff(const char *path, const pg_image *img, pg_rast
     uint8_t *bytes = NULL;
     if (type == PG_RASTER_BYTE) {
         if (!(bytes = malloc(n))) return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", path);
+        /* the rule of every image writer here (pg_quantise.h: lround(v 255) in double),
+         * so a GeoTIFF equals the PNG of the same albedo byte for byte; rounding
+         * v * 255 + 0.5 in float moved values near a half up by one */
         for (size_t i = 0; i < n; i++) {
-            float v = img->data[i] * 255.0f + 0.5f;
-            bytes[i] = (uint8_t)(v >= 255.0f ? 255 : v > 0 ? v : 0);
+            double v = (double)img->data[i];
+            bytes[i] = (uint8_t)(v >= 1.0 ? 255 : v > 0 ? pg_round_half_up(v * 255.0) : 0);
         }
     }
     gdal_msgs m;
