@@ -8,6 +8,7 @@
  * seams through the level's border; distributed, a process delivers its own tiles after
  * an exchange of width 2 (docs/mpi.md, "What is distributed, and how"). */
 #include "pg_planet_synth_internal.h"
+#include "pg_quantise.h"
 
 #include <math.h>
 #include <string.h>
@@ -103,8 +104,21 @@ void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bo
         deliver_row(c, L, row, H + (size_t)row * c->Nout, NULL, all);
 }
 
-/* Albedo (magnified), the heights H, and per delivered texel the exemplar coordinate of
- * its synthesized texel (coords, types): this process's tiles only. */
+/* The albedo as the planet stores it: 8 bits a channel, rounded as every image writer
+ * rounds (pg_quantise.h). The planet in memory is then the planet on disk: a GeoTIFF
+ * resampled from it equals one resampled from the PNG tiles that distributed ranks read
+ * back, and `generate`'s own figures equal `inspect`'s on the saved planet. Exemplar
+ * texels (k / 255) pass unchanged; the B-spline's blends move. */
+static void quantise_albedo(float *rgb) {
+    for (int j = 0; j < 3; j++) {
+        const double v = rgb[j] < 0 ? 0 : rgb[j] > 1 ? 1 : rgb[j];
+        rgb[j] = (float)pg_round_half_up(v * 255.0) * (1.0f / 255.0f); /* as magnified_texel */
+    }
+}
+
+/* Albedo (magnified; quantised as stored), the heights H, and per delivered texel the
+ * exemplar coordinate of its synthesized texel (coords, types): this process's tiles
+ * only. */
 void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
                   uint32_t *coords) {
     const int64_t n = c->Nout;
@@ -123,6 +137,7 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_p
             for (int64_t x = x0; x < x1; x++) {
                 uint32_t q = L->S[pg_ps_at(L, f, (int)(x / m), (int)(y / m))];
                 if (coords) coords[(size_t)row * n + x] = q;
+                quantise_albedo(out->albedo[f] + ((size_t)y * n + (size_t)x) * 3);
                 if (c->use_types)
                     ok += (pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
                            c->etype[pg_synth_texel(c->ex, q)]) &
