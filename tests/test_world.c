@@ -12,7 +12,14 @@
  *  - guidance through the library: a two-zone macro world (one hemisphere cold, the other
  *    hot) gets at least 90% of its material from exemplar texels of the matching zone of
  *    Earth's own climate (the same climate model on Earth's relief), with the world
- *    sampled on the cube and with equirectangular maps. */
+ *    sampled on the cube and with equirectangular maps;
+ *  - sea ice (pg_sea_ice_apply) on an ocean planet whose world runs from +25 deg C to
+ *    -20: the cold ocean is covered (>= 90% of texels below -16 deg C mostly ice, mean
+ *    luma >= 0.6), the land and the warm ocean are untouched bit for bit, the iced share
+ *    falls as it warms, the face seams show no step (the change across a seam at most
+ *    1.25 x the change beside it, in luma and in the cover), the
+ *    same seed gives the same ice and another seed other floes; the exemplar's ice
+ *    colour passes pg_types' ice rule. */
 #include "pg_test.h"
 
 #include "planetgen/pg_climate.h"
@@ -283,6 +290,146 @@ static void test_two_zone_guidance_equirect(void **state) {
     two_zone_guidance(true);
 }
 
+/* ---- sea ice (pg_planet_sea_ice.c) ---- */
+
+#define ICE_WN 32   /* world texels a face edge */
+#define ICE_N 128   /* delivered texels a face edge */
+#define ICE_BINS 10 /* temperature bins of 2 K from -20 deg C */
+
+static float luma(const float *rgb) {
+    return 0.299f * rgb[0] + 0.587f * rgb[1] + 0.114f * rgb[2];
+}
+
+/* A planet of ocean (an island on every face) under a world whose annual mean runs
+ * from +25 deg C at the equator to -20 at the poles; the sea ice must cover the cold
+ * ocean, leave the warm ocean and the land bit for bit, grow with the cold, cross the
+ * face seams without a step, and be a function of the seed alone. */
+static void test_sea_ice(void **state) {
+    (void)state;
+    const size_t nw = (size_t)6 * ICE_WN * ICE_WN;
+    float *elev = malloc(nw * sizeof(float)), *temp = malloc(nw * sizeof(float)),
+          *prec = malloc(nw * sizeof(float));
+    assert_true(elev && temp && prec);
+    pg_cube_grid g;
+    pg_error e = {0};
+    assert_int_equal(pg_cube_grid_init(&g, PG_CUBE_DEFAULT_PROJECTION, 1, ICE_WN, &e), PG_OK);
+    for (size_t id = 0; id < nw; id++) {
+        double d[3];
+        pg_cube_texel_dir(&g, (int64_t)id, d);
+        elev[id] = -3000, prec[id] = 300;
+        temp[id] = (float)(25 - 45 * fabs(d[2]));
+    }
+    pg_planet_world w = {ICE_WN, elev, temp, prec};
+    pg_sea_ice si, si2, si3;
+    assert_int_equal(pg_sea_ice_init(&si, &w, ex, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si2, &w, ex, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si3, &w, ex, 8, ICE_N, &e), PG_OK);
+    /* the exemplar's ice colour passes pg_types' own ice rule: bright and grey-white */
+    uint8_t ic[3];
+    for (int j = 0; j < 3; j++)
+        ic[j] = (uint8_t)lrintf(255 * si.ice_rgb[j]);
+    print_message("ice colour %.3f %.3f %.3f\n", si.ice_rgb[0], si.ice_rgb[1], si.ice_rgb[2]);
+    assert_int_equal(pg_types_classify(ic, 100, 0), PG_TYPE_ICE);
+
+    pg_planet p;
+    assert_int_equal(
+        pg_planet_alloc(&p, PG_CUBE_DEFAULT_PROJECTION, 1, ICE_N, pg_ellipsoid_sphere(), &e),
+        PG_OK);
+    const float water[3] = {0.02f, 0.06f, 0.22f};
+    uint64_t bin_n[ICE_BINS] = {0}, bin_ice[ICE_BINS] = {0}, cold_n = 0, cold_ice = 0;
+    double cold_luma = 0;
+    int differs = 0;
+    for (int f = 0; f < 6; f++)
+        for (int64_t y = 0; y < ICE_N; y++)
+            for (int64_t x = 0; x < ICE_N; x++) {
+                const size_t i = (size_t)(y * ICE_N + x);
+                /* a square island inside every face, away from the seams */
+                const bool land =
+                    x >= ICE_N / 4 && x < ICE_N / 2 && y >= ICE_N / 4 && y < ICE_N / 2;
+                float *rgb = p.albedo[f] + 3 * i, h = land ? 500.0f : -3000.0f, a[3], b[3];
+                p.height[f][i] = h;
+                memcpy(rgb, water, sizeof water);
+                memcpy(a, water, sizeof water);
+                memcpy(b, water, sizeof water);
+                bool iced = pg_sea_ice_apply(&si, f, x, y, h, 0, rgb);
+                /* the same seed gives the same ice; another seed other floes */
+                assert_int_equal(pg_sea_ice_apply(&si2, f, x, y, h, 0, a), iced);
+                assert_memory_equal(a, rgb, sizeof a);
+                pg_sea_ice_apply(&si3, f, x, y, h, 0, b);
+                differs += memcmp(b, rgb, sizeof b) != 0;
+                const double t = pg_sea_ice_temperature(&si, f, x, y);
+                if (land || t >= PG_CLIMATE_ICE_C + 8) { /* untouched, bit for bit */
+                    assert_false(iced);
+                    assert_memory_equal(rgb, water, sizeof water);
+                    continue;
+                }
+                if (t < -16) {
+                    cold_n++, cold_ice += iced, cold_luma += luma(rgb);
+                }
+                int k = (int)floor((t + 20) / 2);
+                if (k >= 0 && k < ICE_BINS) bin_n[k]++, bin_ice[k] += iced;
+            }
+    print_message("cold ocean: %llu texels, %.3f mostly ice, mean luma %.3f\n",
+                  (unsigned long long)cold_n, (double)cold_ice / cold_n, cold_luma / cold_n);
+    assert_true(cold_n > 1000);
+    assert_true(cold_ice >= 0.9 * cold_n);
+    assert_true(cold_luma / cold_n >= 0.6);
+    assert_true(differs > 1000);
+    /* the iced share falls as it warms: from the pack to open water, a bin at most 5
+     * points above the colder one (the floe noise) */
+    double prev = 1.0;
+    for (int k = 0; k < ICE_BINS; k++) {
+        if (bin_n[k] < 200) continue;
+        double share = (double)bin_ice[k] / bin_n[k];
+        print_message("T %+3d..%+3d: %5llu texels, %.3f mostly ice\n", 2 * k - 20, 2 * k - 18,
+                      (unsigned long long)bin_n[k], share);
+        assert_true(share <= prev + 0.05);
+        prev = share;
+    }
+    assert_true(bin_n[0] >= 200 && (double)bin_ice[0] / bin_n[0] >= 0.9); /* -20..-18 */
+    assert_true(bin_n[ICE_BINS - 2] >= 200); /* -4..-2; warmer texels were checked open */
+    assert_true((double)bin_ice[ICE_BINS - 2] / bin_n[ICE_BINS - 2] <= 0.1);
+    /* no step at the face seams: across every seam the albedo's luma and the cover
+     * target change no more than between each side's edge texel and the one inside it */
+    double seam_l = 0, in_l = 0, seam_c = 0, in_c = 0;
+    pg_cube_grid dg;
+    assert_int_equal(pg_cube_grid_init(&dg, PG_CUBE_DEFAULT_PROJECTION, 1, ICE_N, &e), PG_OK);
+    for (int f = 0; f < 6; f++)
+        for (int side = 0; side < 4; side++)
+            for (int64_t k = 0; k < ICE_N; k++) {
+                /* edge texel a0, the one inside a1; across the seam b0, then b1 */
+                const int64_t in = side & 1 ? ICE_N - 1 : 0, step = side & 1 ? 1 : -1;
+                int64_t ax[2], ay[2], bid[2];
+                for (int j = 0; j < 2; j++) {
+                    const int64_t along = in - step * j, out = in + step * (j + 1);
+                    ax[j] = side < 2 ? along : k, ay[j] = side < 2 ? k : along;
+                    bid[j] = side < 2 ? pg_cube_wrap(&dg, f, out, k, NULL)
+                                      : pg_cube_wrap(&dg, f, k, out, NULL);
+                }
+                double lu[4], cv[4];
+                for (int j = 0; j < 4; j++) {
+                    const int bf = j < 2 ? f : (int)(bid[j - 2] / (ICE_N * ICE_N));
+                    const int64_t rem = j < 2 ? 0 : bid[j - 2] % (ICE_N * ICE_N);
+                    const int64_t x = j < 2 ? ax[j] : rem % ICE_N, y = j < 2 ? ay[j] : rem / ICE_N;
+                    lu[j] = luma(p.albedo[bf] + 3 * (size_t)(y * ICE_N + x));
+                    cv[j] = pg_sea_ice_cover(&si, bf, x, y);
+                }
+                seam_l += fabs(lu[0] - lu[2]),
+                    in_l += (fabs(lu[0] - lu[1]) + fabs(lu[2] - lu[3])) / 2;
+                seam_c += fabs(cv[0] - cv[2]),
+                    in_c += (fabs(cv[0] - cv[1]) + fabs(cv[2] - cv[3])) / 2;
+            }
+    print_message("across the seams / beside them: luma %.3f, cover %.3f\n", seam_l / in_l,
+                  seam_c / in_c);
+    assert_true(seam_l <= 1.25 * in_l);
+    assert_true(seam_c <= 1.25 * in_c);
+    pg_planet_free(&p);
+    pg_sea_ice_free(&si), pg_sea_ice_free(&si2), pg_sea_ice_free(&si3);
+    /* no macro world, no sea ice */
+    assert_int_equal(pg_sea_ice_init(&si, NULL, ex, 7, ICE_N, &e), PG_ERR_BADINPUT);
+    free(elev), free(temp), free(prec);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_options),
@@ -290,6 +437,7 @@ int main(void) {
         cmocka_unit_test(test_world_level_sampling),
         cmocka_unit_test_setup_teardown(test_two_zone_guidance, setup, teardown),
         cmocka_unit_test_setup_teardown(test_two_zone_guidance_equirect, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sea_ice, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -96,6 +96,39 @@ pg_status pg_planet_world_exemplar_climate(const pg_synth_exemplar *ex, int64_t 
 pg_status pg_planet_world_exemplar_hypsometry(const pg_synth_exemplar *ex, int64_t n, int nq,
                                               float *land_m, float *ocean_m, pg_error *err);
 
+/* Sea ice (pg_planet_sea_ice.c; docs/generate.md, "Sea ice"): the ocean of the world's ice
+ * climate covered with pack ice, its edge broken into floes, as an albedo cover that
+ * leaves the heights alone. The exemplar lends the ice colour (its ice texels' mean;
+ * ex may be NULL: snow white). Caller-owned context; the noise grids are freed by
+ * pg_sea_ice_free. Every value is a hash of (seed, level, texel): the same for any
+ * thread count, tiling or rank count. */
+#define PG_SEA_ICE_OCTAVES 11
+typedef struct pg_sea_ice {
+    const pg_planet_world *world;
+    int64_t nout; /* delivered texels per face edge */
+    float ice_rgb[3];
+    pg_cube_grid wgrid;
+    float *warm_min;           /* per world texel, the least temperature of its 2 x 2 block */
+    int r[PG_SEA_ICE_OCTAVES]; /* grid texels a face edge */
+    float *noise[PG_SEA_ICE_OCTAVES]; /* 6 (r + 1)^2 vertex values */
+} pg_sea_ice;
+
+pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synth_exemplar *ex,
+                          uint64_t seed, int64_t nout, pg_error *err);
+void pg_sea_ice_free(pg_sea_ice *s);
+/* The bytes pg_sea_ice_init allocates for a planet of nout texels a face edge and a
+ * world of world_n (the noise grids are at most about 24 MB). */
+double pg_sea_ice_bytes(int64_t nout, int64_t world_n);
+/* The world's annual mean temperature at delivered texel (f, X, Y). */
+double pg_sea_ice_temperature(const pg_sea_ice *s, int f, int64_t X, int64_t Y);
+/* The ice cover target there, 0 (open water) .. just under 1 (pack with leads). */
+double pg_sea_ice_cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y);
+/* Cover the delivered texel's sRGB albedo rgb (0..1) with sea ice when it is ocean
+ * (height <= sea_level) in an ice climate; rgb is untouched where the cover is 0.
+ * Returns whether the texel is mostly ice. */
+bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float height,
+                      float sea_level, float rgb[3]);
+
 #define PG_PLANET_KEEP_AUTO (-1)     /* keep_levels by ground scale */
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
 #define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
@@ -170,6 +203,9 @@ typedef struct pg_planet_synth_params {
     /* layout world: the macro world (required there, NULL otherwise); with guide or types
      * NULL, the guide or the type constraints come from it */
     const pg_planet_world *world;
+    /* layout world: cover the ocean of the ice climate with sea ice (pg_sea_ice_apply;
+     * default true) */
+    bool sea_ice;
 } pg_planet_synth_params;
 
 void pg_planet_synth_params_default(pg_planet_synth_params *p);
@@ -188,6 +224,8 @@ typedef struct pg_planet_synth_info {
     double land_agreement;       /* layout earth: land/ocean match with the exemplar at
                                     the coarsest kept level (NaN otherwise) */
     double allowed_fraction;     /* texels of the finest level with an allowed type */
+    double sea_ice_fraction;     /* layout world with sea_ice: the share of the delivered
+                                    ocean texels mostly under sea ice (NaN otherwise) */
     double peak_bytes_estimate;
 } pg_planet_synth_info;
 

@@ -93,6 +93,7 @@ static void set_world(const gen_args *a, const gen_inputs *in, pg_planet_synth_p
     p->layout = PG_LAYOUT_WORLD;
     if (a->guide_weight < 0) p->guide_alpha = GEN_WORLD_GUIDE_WEIGHT;
     p->world = &in->world.world; /* the guide and the types unless given (--guide, --types) */
+    p->sea_ice = !a->no_sea_ice;
 }
 
 static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
@@ -328,6 +329,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     if (p->type_mask != PG_TYPES_ALL || p->types)
         pg_cli_info(cli, "types    %.1f%% of texels of allowed types\n",
                     100 * si->allowed_fraction);
+    if (!isnan(si->sea_ice_fraction))
+        pg_cli_info(cli, "sea ice  %.1f%% of the ocean's texels\n", 100 * si->sea_ice_fraction);
     if (seams)
         pg_cli_info(cli, "seams    seam/interior |delta|: height %.3f, albedo %.3f (gate %.1f)\n",
                     seams->height.ratio, seams->albedo.ratio, PG_INSPECT_SEAM_GATE);
@@ -405,6 +408,8 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(res, "memory_estimate_bytes", need);
     pg_json_set_number(res, "land_agreement", isnan(si->land_agreement) ? -1 : si->land_agreement);
     pg_json_set_number(res, "allowed_type_fraction", si->allowed_fraction);
+    if (!isnan(si->sea_ice_fraction))
+        pg_json_set_number(res, "sea_ice_fraction", si->sea_ice_fraction);
     if (seams) { /* not computed in a distributed run: they read the whole planet */
         pg_json_set_number(res, "seam_ratio_height", seams->height.ratio);
         pg_json_set_number(res, "seam_ratio_albedo", seams->albedo.ratio);
@@ -573,6 +578,9 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
          "layout world: axial tilt in degrees (23.4)"},
         {"--temperature-offset", NULL, PG_OPT_DOUBLE, &a.temperature_offset, -40, 40, NULL, "K",
          "layout world: added to every temperature, ice age < 0 < hothouse (0)"},
+        {"--no-sea-ice", NULL, PG_OPT_FLAG, &a.no_sea_ice, 0, 0, NULL, NULL,
+         "layout world: leave the ocean of the ice climate open (no sea ice; docs/generate.md, "
+         "\"Sea ice\")"},
         {"--keep-levels", NULL, PG_OPT_INT, &a.keep_levels, 0, 64, NULL, "K",
          "layout earth: coarsest levels kept without jitter (default: those at least 1/32 "
          "of a face apart: 2 for an exemplar face of 512, 1 for 1024 and up)"},

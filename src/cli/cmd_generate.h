@@ -25,7 +25,7 @@ typedef struct gen_args {
     double jitter, guide_weight, max_memory_gb;
     long plates;                                          /* layout world */
     double land_fraction, axial_tilt, temperature_offset; /* layout world */
-    bool no_cache, independent, no_glb;
+    bool no_cache, independent, no_glb, no_sea_ice;
     bool geotiff; /* also the GIS rasters (pg_export.h) */
 } gen_args;
 

@@ -315,12 +315,22 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     if (!st) st = planet_alloc(&c, whole, out, err);
     if (!st && coords_out && !(*coords_out = malloc(px * sizeof(uint32_t))))
         st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (coords)");
+    /* layout world: the sea ice goes on as each texel is delivered */
+    pg_sea_ice ice;
+    const bool with_ice = p->world && p->sea_ice && p->layout == PG_LAYOUT_WORLD;
+    info->sea_ice_fraction = NAN;
+    bool ice_ready = false;
+    if (!st && with_ice) {
+        st = pg_sea_ice_init(&ice, p->world, ex, p->synth.seed, c.Nout, err);
+        ice_ready = !st;
+    }
     if (!st) {
         out->seed = p->synth.seed;
         out->sea_level = ex->sea_level;
         out->closed_land_share_before_final = closed;
-        pg_ps_render(&c, &L, H, out, coords_out ? *coords_out : NULL);
+        pg_ps_render(&c, &L, H, ice_ready ? &ice : NULL, out, coords_out ? *coords_out : NULL);
     }
+    if (ice_ready) pg_sea_ice_free(&ice);
     info->render_seconds = pg_synth_now() - t0;
     if (Hs.base)
         pg_span_free(&Hs);

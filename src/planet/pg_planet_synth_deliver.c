@@ -108,7 +108,7 @@ void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bo
  * rounds (pg_quantise.h). The planet in memory is then the planet on disk: a GeoTIFF
  * resampled from it equals one resampled from the PNG tiles that distributed ranks read
  * back, and `generate`'s own figures equal `inspect`'s on the saved planet. Exemplar
- * texels (k / 255) pass unchanged; the B-spline's blends move. */
+ * texels (k / 255) pass unchanged; the B-spline's and the sea ice's blends move. */
 static void quantise_albedo(float *rgb) {
     for (int j = 0; j < 3; j++) {
         const double v = rgb[j] < 0 ? 0 : rgb[j] > 1 ? 1 : rgb[j];
@@ -116,15 +116,16 @@ static void quantise_albedo(float *rgb) {
     }
 }
 
-/* Albedo (magnified; quantised as stored), the heights H, and per delivered texel the
- * exemplar coordinate of its synthesized texel (coords, types): this process's tiles
- * only. */
-void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
-                  uint32_t *coords) {
+/* Albedo (magnified, under sea ice where ice is given; quantised as stored), the heights H, and per
+ * delivered texel the exemplar coordinate of its synthesized texel (coords, types): this process's
+ * tiles only. */
+void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, const pg_sea_ice *ice,
+                  pg_planet *out, uint32_t *coords) {
     const int64_t n = c->Nout;
     const int r = L->r, m = c->m;
-    uint64_t ok = 0;
-#pragma omp parallel for schedule(static) reduction(+ : ok)
+    const float sea = c->ex->sea_level;
+    uint64_t ok = 0, ocean = 0, iced = 0;
+#pragma omp parallel for schedule(static) reduction(+ : ok, ocean, iced)
     for (int64_t row = 0; row < 6 * n; row++) {
         int f = (int)(row / n);
         int64_t y = row % n;
@@ -137,7 +138,13 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_p
             for (int64_t x = x0; x < x1; x++) {
                 uint32_t q = L->S[pg_ps_at(L, f, (int)(x / m), (int)(y / m))];
                 if (coords) coords[(size_t)row * n + x] = q;
-                quantise_albedo(out->albedo[f] + ((size_t)y * n + (size_t)x) * 3);
+                float *rgb = out->albedo[f] + ((size_t)y * n + (size_t)x) * 3;
+                if (ice) {
+                    const float h = H[(size_t)row * n + x];
+                    ocean += h <= sea;
+                    iced += pg_sea_ice_apply(ice, f, x, y, h, sea, rgb);
+                }
+                quantise_albedo(rgb);
                 if (c->use_types)
                     ok += (pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)) >>
                            c->etype[pg_synth_texel(c->ex, q)]) &
@@ -149,4 +156,9 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_p
     if (c->use_types && c->p->dist && c->p->dist->sum)
         allowed = c->p->dist->sum(c->p->dist->user, allowed);
     c->info->allowed_fraction = c->use_types ? allowed / (6.0 * n * n) : 1.0;
+    double sums[2] = {(double)ocean, (double)iced}; /* integers: exact in any order */
+    if (ice && c->p->dist && c->p->dist->sum)
+        for (int k = 0; k < 2; k++)
+            sums[k] = c->p->dist->sum(c->p->dist->user, sums[k]);
+    c->info->sea_ice_fraction = ice && sums[0] > 0 ? sums[1] / sums[0] : NAN;
 }

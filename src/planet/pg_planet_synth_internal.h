@@ -199,7 +199,7 @@ pg_status pg_ps_final_pits(pg_ps_ctx *c, float *H, bool whole, double *closed, p
 /* -------------------------- pg_planet_synth_deliver.c -------------------------- */
 
 void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bool all);
-void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, pg_planet *out,
-                  uint32_t *coords);
+void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, const pg_sea_ice *ice,
+                  pg_planet *out, uint32_t *coords);
 
 #endif

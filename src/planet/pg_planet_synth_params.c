@@ -19,6 +19,7 @@ void pg_planet_synth_params_default(pg_planet_synth_params *p) {
     p->pit_skip_levels = 1;
     p->pit_method = PG_PITS_BREACH;
     p->final_pits = true;
+    p->sea_ice = true;
     p->final_method = PG_PITS_BREACH;
     p->pit_stats = true;
 }
@@ -72,7 +73,7 @@ int pg_planet_synth_face_size(int tiles, int tile_size) {
 /* Bytes per finest texel, by phase (see pg_planet_synth_run for the order of
  * allocations): synthesis (S, V with borders, the parent level, orient, type mask,
  * guide, Gain-pit at the next-finest level) and delivery (planet 16, S and H 8, and
- * what the final pit removal allocates, about 10). */
+ * what the final pit removal allocates, about 10); the sea ice's noise grids on top. */
 double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p) {
     double n = (double)tiles * tile_size, px = 6.0 * n * n;
     double border = 6.0 * 4.0 * (n + 2) * 2 * 16;
@@ -80,7 +81,10 @@ double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_par
                    (p && (p->guide || pg_ps_world_guide(p)) ? 4 : 0) +
                    (p && p->pits ? 0.25 * 18 : 0);
     double deliver = 16 + 8 + (p && p->pits ? 12 : 0);
-    return px * (synth > deliver ? synth : deliver) + border;
+    double ice = p && p->world && p->sea_ice && p->layout == PG_LAYOUT_WORLD
+                     ? pg_sea_ice_bytes((int64_t)n, p->world->n)
+                     : 0;
+    return px * (synth > deliver ? synth : deliver) + border + ice;
 }
 
 pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
