@@ -26,7 +26,8 @@
  *   Colour: the mean albedo of the exemplar's ice texels (the pg_types rule: its ice
  *   sheets' snow), times a tone of 0.89..1 (clipped at white) from a noise of 64 to 128
  *   texels; thin ice is greyer: at the margin it keeps up to 35% of the water below it as
- *   c falls to 0, along the leads (the contour n = 1/2 of a noise of 16 to 32 texels) 70%.
+ *   c falls to 0, along the leads (the contour n = 1/2 of a noise of 16 to 32 texels, open where
+ *   the tone noise is above its middle) 70%.
  *   Where c is 0 the texel is not touched (bit for bit).
  *
  * NOISE. Value noise on the cube's grid lines: a grid of r texels per face edge has
@@ -251,8 +252,11 @@ bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float he
     double a = (c - noise(s, 3, 7, f, X, Y)) / W_STEP + 0.5;
     a = a < 0 ? 0 : a > 1 ? 1 : a;
     if (a <= 0) return false;
-    const double tone = 0.97 + 0.16 * (noise(s, 7, 9, f, X, Y) - 0.5);
-    const double lead = 1 - fmin(1.0, fabs(noise(s, 9, 11, f, X, Y) - 0.5) / LEAD_W);
+    const double nt = noise(s, 7, 9, f, X, Y), tone = 0.97 + 0.16 * (nt - 0.5);
+    /* a lead is open where the tone noise is above its middle, so the contour breaks
+     * into separate cracks instead of closing into loops */
+    const double open = fmin(1.0, fmax(0.0, (nt - 0.5) * 8));
+    const double lead = open * (1 - fmin(1.0, fabs(noise(s, 9, 11, f, X, Y) - 0.5) / LEAD_W));
     /* thin ice shows the water: at the margin, and along the leads */
     const double keep = fmax(THIN_KEEP * (1 - c / C_MAX), LEAD_KEEP * lead);
     for (int j = 0; j < 3; j++) {
