@@ -18,8 +18,9 @@
  *    luma >= 0.6), the land and the warm ocean are untouched bit for bit, the iced share
  *    falls as it warms, the face seams show no step (the change across a seam at most
  *    1.25 x the change beside it, in luma and in the cover), the
- *    same seed gives the same ice and another seed other floes; the exemplar's ice
- *    colour passes pg_types' ice rule. */
+ *    same seed gives the same ice and another seed other floes, every texel below -6.5
+ *    deg C has some cover, the shortcut that skips warm water gives every cover of a
+ *    world near -2 deg C unchanged; the exemplar's ice colour passes pg_types' ice rule. */
 #include "pg_test.h"
 
 #include "planetgen/pg_climate.h"
@@ -366,6 +367,8 @@ static void test_sea_ice(void **state) {
                 if (t < -16) {
                     cold_n++, cold_ice += iced, cold_luma += luma(rgb);
                 }
+                /* below -6.5 deg C even the edge noise's lowest value leaves some cover */
+                if (t <= -6.5) assert_true(pg_sea_ice_cover(&si, f, x, y) > 0);
                 int k = (int)floor((t + 20) / 2);
                 if (k >= 0 && k < ICE_BINS) bin_n[k]++, bin_ice[k] += iced;
             }
@@ -425,6 +428,31 @@ static void test_sea_ice(void **state) {
     assert_true(seam_c <= 1.25 * in_c);
     pg_planet_free(&p);
     pg_sea_ice_free(&si), pg_sea_ice_free(&si2), pg_sea_ice_free(&si3);
+    /* the shortcut that skips warm water without a sample changes nothing: a world of 7
+     * texels a face edge (not a divisor of the planet's), smooth at -5..-1 deg C, every texel's
+     * cover with and without it */
+    const size_t n7 = 6 * 7 * 7;
+    float t7[6 * 7 * 7];
+    for (size_t i = 0; i < n7; i++)
+        t7[i] = (float)(-3.0 + 2.0 * sin(0.5 * (double)(i % 7) + 0.3 * (double)(i / 7 % 7) +
+                                         (double)(i / 49)));
+    pg_planet_world w7 = {7, elev, t7, prec};
+    assert_int_equal(pg_sea_ice_init(&si, &w7, NULL, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si2, &w7, NULL, 7, ICE_N, &e), PG_OK);
+    si2.sample_all = true;
+    int64_t covered = 0;
+    for (int f = 0; f < 6; f++)
+        for (int64_t i = 0; i < ICE_N * ICE_N; i++) {
+            const double a = pg_sea_ice_cover(&si, f, i % ICE_N, i / ICE_N),
+                         b = pg_sea_ice_cover(&si2, f, i % ICE_N, i / ICE_N);
+            assert_true(a == b);
+            covered += a > 0;
+        }
+    print_message("warm world: %lld of %d texels with some cover, the same without the "
+                  "shortcut\n",
+                  (long long)covered, 6 * ICE_N * ICE_N);
+    assert_true(covered > 0 && covered < 6 * ICE_N * ICE_N);
+    pg_sea_ice_free(&si), pg_sea_ice_free(&si2);
     /* no macro world, no sea ice */
     assert_int_equal(pg_sea_ice_init(&si, NULL, ex, 7, ICE_N, &e), PG_ERR_BADINPUT);
     free(elev), free(temp), free(prec);

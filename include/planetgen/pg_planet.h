@@ -49,6 +49,7 @@ typedef struct pg_planet_generation {
     char layout[16]; /* "world", "earth" or "free" */
     int plates;      /* layout world: the others leave 0 and the figures below unset */
     double land_fraction, axial_tilt_deg, temperature_offset_K;
+    bool sea_ice; /* layout world: the polar oceans carry sea ice (docs/generate.md) */
     double jitter;
     int passes;
 } pg_planet_generation;

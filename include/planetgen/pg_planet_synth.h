@@ -109,6 +109,7 @@ typedef struct pg_sea_ice {
     float ice_rgb[3];
     pg_cube_grid wgrid;
     float *warm_min;           /* per world texel, the least temperature of its 2 x 2 block */
+    bool sample_all;           /* testing: sample every texel, without the warm_min shortcut */
     int r[PG_SEA_ICE_OCTAVES]; /* grid texels a face edge */
     float *noise[PG_SEA_ICE_OCTAVES]; /* 6 (r + 1)^2 vertex values */
 } pg_sea_ice;
@@ -117,8 +118,11 @@ pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synt
                           uint64_t seed, int64_t nout, pg_error *err);
 void pg_sea_ice_free(pg_sea_ice *s);
 /* The bytes pg_sea_ice_init allocates for a planet of nout texels a face edge and a
- * world of world_n (the noise grids are at most about 24 MB). */
+ * world of world_n (the noise grids: 2.3 MB at nout = 1024, at most 51 MB). */
 double pg_sea_ice_bytes(int64_t nout, int64_t world_n);
+/* The world size pg_planet_synth_bytes assumes before the world exists: generate's
+ * warped detail world, 4 x 64 texels a face edge (docs/generate.md, "Warped detail"). */
+#define PG_SEA_ICE_WORLD_N 256
 /* The world's annual mean temperature at delivered texel (f, X, Y). */
 double pg_sea_ice_temperature(const pg_sea_ice *s, int f, int64_t X, int64_t Y);
 /* The ice cover target there, 0 (open water) .. just under 1 (pack with leads). */

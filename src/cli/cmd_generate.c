@@ -93,7 +93,6 @@ static void set_world(const gen_args *a, const gen_inputs *in, pg_planet_synth_p
     p->layout = PG_LAYOUT_WORLD;
     if (a->guide_weight < 0) p->guide_alpha = GEN_WORLD_GUIDE_WEIGHT;
     p->world = &in->world.world; /* the guide and the types unless given (--guide, --types) */
-    p->sea_ice = !a->no_sea_ice;
 }
 
 static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_params *p) {
@@ -115,6 +114,7 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->pits = strcmp(a->pits, "off") != 0;
     p->pit_skip_levels = (int)a->pit_skip;
     p->final_pits = strcmp(a->final_pits, "none") != 0;
+    p->sea_ice = !a->no_sea_ice;
     if (p->final_pits) pg_pits_method_parse(a->final_pits, &p->final_method);
     if (in->has_world) set_world(a, in, p);
 }
@@ -173,8 +173,12 @@ static double gen_rank_bytes(const gen_args *a, const pg_planet_synth_params *p,
     const double graph = g->rank == 0 && (p->pits || p->pit_stats)
                              ? GEN_RANK0_BYTES_PER_EDGE * GEN_RANK0_EDGES_PER_TILE_EDGE * S * nt
                              : 0;
+    /* every rank holds the sea ice's whole noise grids */
+    const double ice = p->layout == PG_LAYOUT_WORLD && p->sea_ice
+                           ? pg_sea_ice_bytes((int64_t)n, PG_SEA_ICE_WORLD_N)
+                           : 0;
     return GEN_RANK_BASE_BYTES + GEN_RANK_BYTES_PER_TEXEL * (owned * S * S + ring) +
-           GEN_RANK_BYTES_PER_SYNTH_TEXEL * synth + graph + gen_exemplar_bytes(a) / sharers;
+           GEN_RANK_BYTES_PER_SYNTH_TEXEL * synth + graph + gen_exemplar_bytes(a) / sharers + ice;
 }
 
 /* with_map: the single-file layout keeps the coordinate map, 4 bytes per texel held
@@ -368,6 +372,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
         pg_json_set_number(pp, "land_fraction", a->land_fraction);
         pg_json_set_number(pp, "axial_tilt_deg", a->axial_tilt);
         pg_json_set_number(pp, "temperature_offset_K", a->temperature_offset);
+        pg_json_set_bool(pp, "sea_ice", !a->no_sea_ice);
     }
     pg_json_set_number(pp, "keep_levels", sc->keep);
     pg_json_set_number(pp, "exemplar_face_size", sc->face);
@@ -433,6 +438,7 @@ static void record_generation(const gen_args *a, const pg_planet_synth_params *p
         g->land_fraction = a->land_fraction;
         g->axial_tilt_deg = a->axial_tilt;
         g->temperature_offset_K = a->temperature_offset;
+        g->sea_ice = !a->no_sea_ice;
     }
     g->jitter = a->jitter;
     g->passes = (int)a->passes;

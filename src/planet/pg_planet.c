@@ -223,6 +223,7 @@ pg_json *pg_planet_meta_json(const pg_planet *p) {
             pg_json_set_number(o, "land_fraction", g->land_fraction);
             pg_json_set_number(o, "axial_tilt_deg", g->axial_tilt_deg);
             pg_json_set_number(o, "temperature_offset_K", g->temperature_offset_K);
+            pg_json_set_bool(o, "sea_ice", g->sea_ice);
         }
         pg_json_set_number(o, "jitter", g->jitter);
         pg_json_set_number(o, "passes", g->passes);

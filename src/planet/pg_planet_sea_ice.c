@@ -24,7 +24,7 @@
  *   share rises with c, the pack (C_MAX < 1) keeps a few leads, and the margin breaks
  *   into floes.
  *   Colour: the mean albedo of the exemplar's ice texels (the pg_types rule: its ice
- *   sheets' snow), times a tone of 0.89..1 (clipped at white) from a noise of 64 to 128
+ *   sheets' snow), times a tone of 0.89..1 from a noise of 64 to 128
  *   texels; thin ice is greyer: at the margin it keeps up to 35% of the water below it as
  *   c falls to 0, along the leads (the contour n = 1/2 of a noise of 16 to 32 texels, open where
  *   the tone noise is above its middle) 70%.
@@ -39,7 +39,9 @@
  * shared, so the ice crosses every seam and cube corner without a step (sampling a texel-centred
  * grid across a corner extrapolates a missing texel, which each face does its own way), and every
  * value is a hash of (seed, level, lattice point): the same for any thread count, tiling or rank
- * count. The grids are at most SEA_ICE_MAX_R a face edge (about 24 MB in all). */
+ * count. The grids are at most SEA_ICE_MAX_R a face edge: 2.3 MB for a planet of 1024 a
+ * face edge, at most 51 MB (pg_sea_ice_bytes). Above faces of 2048 the capped octaves
+ * stretch: at 16384 every floe octave is 32 delivered texels, not 4 to 32. */
 #include "planetgen/pg_planet_synth.h"
 
 #include "planetgen/pg_climate.h"
@@ -215,12 +217,16 @@ static double noise(const pg_sea_ice *s, int i0, int i1, int f, int64_t X, int64
     return acc / wsum;
 }
 
+/* The world's temperature at world point (fx, fy) of face f. */
+static double temperature_at(const pg_sea_ice *s, int f, double fx, double fy) {
+    float t;
+    pg_cube_sample_face(&s->wgrid, s->world->temperature_c, 1, f, fx, fy, &t);
+    return t;
+}
+
 double pg_sea_ice_temperature(const pg_sea_ice *s, int f, int64_t X, int64_t Y) {
     const double k = (double)s->world->n / (double)s->nout;
-    float t;
-    pg_cube_sample_face(&s->wgrid, s->world->temperature_c, 1, f, (X + 0.5) * k - 0.5,
-                        (Y + 0.5) * k - 0.5, &t);
-    return t;
+    return temperature_at(s, f, (X + 0.5) * k - 0.5, (Y + 0.5) * k - 0.5);
 }
 
 /* Whether the bilinear temperature at world point (fx, fy) of face f is surely warm
@@ -236,10 +242,11 @@ static bool surely_open(const pg_sea_ice *s, int f, double fx, double fy) {
 
 double pg_sea_ice_cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y) {
     const double k = (double)s->world->n / (double)s->nout;
-    if (surely_open(s, f, (X + 0.5) * k - 0.5, (Y + 0.5) * k - 0.5)) return 0;
-    const double t = pg_sea_ice_temperature(s, f, X, Y);
+    const double fx = (X + 0.5) * k - 0.5, fy = (Y + 0.5) * k - 0.5;
+    if (!s->sample_all && surely_open(s, f, fx, fy)) return 0;
+    const double t = temperature_at(s, f, fx, fy);
+    if (!(t < T_NONE)) return 0; /* no edge noise reaches it (and no NaN goes on) */
     const double u = (T_OPEN - t) / (T_OPEN - T_PACK);
-    if (t >= T_NONE) return 0; /* no edge noise reaches it */
     const double c = u + A_EDGE * (noise(s, 0, 3, f, X, Y) - 0.5);
     return c <= 0 ? 0 : c > C_MAX ? C_MAX : c;
 }
@@ -252,7 +259,7 @@ bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float he
     double a = (c - noise(s, 3, 7, f, X, Y)) / W_STEP + 0.5;
     a = a < 0 ? 0 : a > 1 ? 1 : a;
     if (a <= 0) return false;
-    const double nt = noise(s, 7, 9, f, X, Y), tone = 0.97 + 0.16 * (nt - 0.5);
+    const double nt = noise(s, 7, 9, f, X, Y), tone = 0.945 + 0.11 * (nt - 0.5);
     /* a lead is open where the tone noise is above its middle, so the contour breaks
      * into separate cracks instead of closing into loops */
     const double open = fmin(1.0, fmax(0.0, (nt - 0.5) * 8));

@@ -270,6 +270,7 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     if (!info) info = &local;
     memset(info, 0, sizeof *info);
     info->land_agreement = NAN;
+    info->sea_ice_fraction = NAN;
     memset(out, 0, sizeof *out);
     if (coords_out) *coords_out = NULL;
     pg_status st = pg_planet_synth_check(ex, p, err);
@@ -318,7 +319,6 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     /* layout world: the sea ice goes on as each texel is delivered */
     pg_sea_ice ice;
     const bool with_ice = p->world && p->sea_ice && p->layout == PG_LAYOUT_WORLD;
-    info->sea_ice_fraction = NAN;
     bool ice_ready = false;
     if (!st && with_ice) {
         st = pg_sea_ice_init(&ice, p->world, ex, p->synth.seed, c.Nout, err);

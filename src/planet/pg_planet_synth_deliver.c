@@ -111,7 +111,7 @@ void pg_ps_finest_heights(const pg_ps_ctx *c, const pg_ps_level *L, float *H, bo
  * texels (k / 255) pass unchanged; the B-spline's and the sea ice's blends move. */
 static void quantise_albedo(float *rgb) {
     for (int j = 0; j < 3; j++) {
-        const double v = rgb[j] < 0 ? 0 : rgb[j] > 1 ? 1 : rgb[j];
+        const double v = !(rgb[j] > 0) ? 0 : rgb[j] > 1 ? 1 : rgb[j];  /* NaN: 0 */
         rgb[j] = (float)pg_round_half_up(v * 255.0) * (1.0f / 255.0f); /* as magnified_texel */
     }
 }

@@ -81,8 +81,9 @@ double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_par
                    (p && (p->guide || pg_ps_world_guide(p)) ? 4 : 0) +
                    (p && p->pits ? 0.25 * 18 : 0);
     double deliver = 16 + 8 + (p && p->pits ? 12 : 0);
-    double ice = p && p->world && p->sea_ice && p->layout == PG_LAYOUT_WORLD
-                     ? pg_sea_ice_bytes((int64_t)n, p->world->n)
+    /* checked before the world exists: then its size as generate builds it */
+    double ice = p && p->sea_ice && p->layout == PG_LAYOUT_WORLD
+                     ? pg_sea_ice_bytes((int64_t)n, p->world ? p->world->n : PG_SEA_ICE_WORLD_N)
                      : 0;
     return px * (synth > deliver ? synth : deliver) + border + ice;
 }
