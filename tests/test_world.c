@@ -322,15 +322,23 @@ static void test_sea_ice(void **state) {
     }
     pg_planet_world w = {ICE_WN, elev, temp, prec};
     pg_sea_ice si, si2, si3;
-    assert_int_equal(pg_sea_ice_init(&si, &w, ex, 7, ICE_N, &e), PG_OK);
-    assert_int_equal(pg_sea_ice_init(&si2, &w, ex, 7, ICE_N, &e), PG_OK);
-    assert_int_equal(pg_sea_ice_init(&si3, &w, ex, 8, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si, &w, ex, NULL, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si2, &w, ex, NULL, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si3, &w, ex, NULL, 8, ICE_N, &e), PG_OK);
     /* the exemplar's ice colour passes pg_types' own ice rule: bright and grey-white */
     uint8_t ic[3];
     for (int j = 0; j < 3; j++)
         ic[j] = (uint8_t)lrintf(255 * si.ice_rgb[j]);
     print_message("ice colour %.3f %.3f %.3f\n", si.ice_rgb[0], si.ice_rgb[1], si.ice_rgb[2]);
     assert_int_equal(pg_types_classify(ic, 100, 0), PG_TYPE_ICE);
+    /* the synthesis passes the types it already has: the same colour */
+    uint8_t *types = pg_types_exemplar(ex);
+    assert_non_null(types);
+    pg_sea_ice st;
+    assert_int_equal(pg_sea_ice_init(&st, &w, ex, types, 7, ICE_N, &e), PG_OK);
+    assert_memory_equal(st.ice_rgb, si.ice_rgb, sizeof st.ice_rgb);
+    pg_sea_ice_free(&st);
+    free(types);
 
     pg_planet p;
     assert_int_equal(
@@ -437,8 +445,8 @@ static void test_sea_ice(void **state) {
         t7[i] = (float)(-3.0 + 2.0 * sin(0.5 * (double)(i % 7) + 0.3 * (double)(i / 7 % 7) +
                                          (double)(i / 49)));
     pg_planet_world w7 = {7, elev, t7, prec};
-    assert_int_equal(pg_sea_ice_init(&si, &w7, NULL, 7, ICE_N, &e), PG_OK);
-    assert_int_equal(pg_sea_ice_init(&si2, &w7, NULL, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si, &w7, NULL, NULL, 7, ICE_N, &e), PG_OK);
+    assert_int_equal(pg_sea_ice_init(&si2, &w7, NULL, NULL, 7, ICE_N, &e), PG_OK);
     si2.sample_all = true;
     int64_t covered = 0;
     for (int f = 0; f < 6; f++)
@@ -454,7 +462,7 @@ static void test_sea_ice(void **state) {
     assert_true(covered > 0 && covered < 6 * ICE_N * ICE_N);
     pg_sea_ice_free(&si), pg_sea_ice_free(&si2);
     /* no macro world, no sea ice */
-    assert_int_equal(pg_sea_ice_init(&si, NULL, ex, 7, ICE_N, &e), PG_ERR_BADINPUT);
+    assert_int_equal(pg_sea_ice_init(&si, NULL, ex, NULL, 7, ICE_N, &e), PG_ERR_BADINPUT);
     free(elev), free(temp), free(prec);
 }
 

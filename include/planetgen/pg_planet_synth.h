@@ -98,10 +98,12 @@ pg_status pg_planet_world_exemplar_hypsometry(const pg_synth_exemplar *ex, int64
 
 /* Sea ice (pg_planet_sea_ice.c; docs/generate.md, "Sea ice"): the ocean of the world's ice
  * climate covered with pack ice, its edge broken into floes, as an albedo cover that
- * leaves the heights alone. The exemplar lends the ice colour (its ice texels' mean;
- * ex may be NULL: snow white). Caller-owned context; the noise grids are freed by
- * pg_sea_ice_free. Every value is a hash of (seed, level, texel): the same for any
- * thread count, tiling or rank count. */
+ * leaves the heights alone. The exemplar lends the ice colour: the mean of its finest
+ * texels of type ice, read from types (pg_types_exemplar's array, which the synthesis
+ * already holds) or, with types NULL, classified here; ex may be NULL: snow white.
+ * Caller-owned context; the noise grids are freed by pg_sea_ice_free. Every value is a
+ * hash of (seed, level, lattice point): the same for any thread count, tiling or rank
+ * count. */
 #define PG_SEA_ICE_OCTAVES 11
 typedef struct pg_sea_ice {
     const pg_planet_world *world;
@@ -115,7 +117,7 @@ typedef struct pg_sea_ice {
 } pg_sea_ice;
 
 pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synth_exemplar *ex,
-                          uint64_t seed, int64_t nout, pg_error *err);
+                          const uint8_t *types, uint64_t seed, int64_t nout, pg_error *err);
 void pg_sea_ice_free(pg_sea_ice *s);
 /* The bytes pg_sea_ice_init allocates for a planet of nout texels a face edge and a
  * world of world_n (the noise grids: 2.3 MB at nout = 1024, at most 51 MB). */

@@ -101,16 +101,17 @@ static int log2i(int r) {
     return l;
 }
 
-/* The exemplar's ice colour: the mean sRGB of its finest texels that pg_types_classify
- * calls ice, summed in integers (the same for any thread count); a plain snow white when
- * it has none. */
-static void ice_colour(const pg_synth_exemplar *ex, float rgb[3]) {
-    const int64_t n = (int64_t)ex->nfaces * ex->face_size * ex->face_size;
+/* The exemplar's ice colour: the mean sRGB of its finest texels of type ice (types[t],
+ * or pg_types_classify without types), summed in integers (the same for any thread
+ * count); a plain snow white without an exemplar or when it has no ice. */
+static void ice_colour(const pg_synth_exemplar *ex, const uint8_t *types, float rgb[3]) {
+    const int64_t n = ex ? (int64_t)ex->nfaces * ex->face_size * ex->face_size : 0;
     uint64_t s0 = 0, s1 = 0, s2 = 0, cnt = 0;
 #pragma omp parallel for schedule(static) reduction(+ : s0, s1, s2, cnt)
     for (int64_t t = 0; t < n; t++) {
         const uint8_t *a = ex->albedo + 3 * t;
-        if (pg_types_classify(a, ex->height[t], ex->sea_level) != PG_TYPE_ICE) continue;
+        const int type = types ? types[t] : pg_types_classify(a, ex->height[t], ex->sea_level);
+        if (type != PG_TYPE_ICE) continue;
         s0 += a[0], s1 += a[1], s2 += a[2], cnt++;
     }
     if (!cnt) {
@@ -130,17 +131,14 @@ double pg_sea_ice_bytes(int64_t nout, int64_t world_n) {
 }
 
 pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synth_exemplar *ex,
-                          uint64_t seed, int64_t nout, pg_error *err) {
+                          const uint8_t *types, uint64_t seed, int64_t nout, pg_error *err) {
     memset(s, 0, sizeof *s);
     if (!w || w->n < 1 || !w->temperature_c || nout < 1)
         return pg_error_set(err, PG_ERR_BADINPUT, "sea ice: no macro world");
     s->world = w;
     s->nout = nout;
     pg_cube_sample_grid_init(&s->wgrid, PG_CUBE_DEFAULT_PROJECTION, w->n);
-    if (ex)
-        ice_colour(ex, s->ice_rgb);
-    else
-        s->ice_rgb[0] = 0.92f, s->ice_rgb[1] = 0.94f, s->ice_rgb[2] = 0.96f;
+    ice_colour(ex, types, s->ice_rgb);
     const int64_t wn = w->n;
     s->warm_min = malloc((size_t)(6 * wn * wn) * sizeof(float));
     if (!s->warm_min) {

@@ -321,7 +321,7 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     const bool with_ice = p->world && p->sea_ice && p->layout == PG_LAYOUT_WORLD;
     bool ice_ready = false;
     if (!st && with_ice) {
-        st = pg_sea_ice_init(&ice, p->world, ex, p->synth.seed, c.Nout, err);
+        st = pg_sea_ice_init(&ice, p->world, ex, c.etype, p->synth.seed, c.Nout, err);
         ice_ready = !st;
     }
     if (!st) {
