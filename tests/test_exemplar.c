@@ -1,5 +1,6 @@
 /* test_exemplar.c - the default exemplar from marble-qt-data: relief assembly,
- * orientation of both maps, and the grey -> metres calibration, on the real data. */
+ * orientation of both maps, the grey -> metres calibration and the ocean colour
+ * repair, on the real data; the repair's rule on small synthetic exemplars. */
 #include "pg_marble.h"
 #include "pg_test.h"
 
@@ -135,6 +136,162 @@ static void test_calibration_agrees_with_water_mask(void **state) {
     }
 }
 
+/* Share of the water texels 1-4 km deep between 58 and 72 S, 60 W to 95 E (Blue
+ * Marble's band without bathymetry) that wear the abyss's near-black (blue < 30/255);
+ * elsewhere at those depths the ocean is navy, blue 45-130. */
+static double band_black_share(const pg_exemplar *ex, const float *albedo) {
+    size_t n = 0, black = 0;
+    for (int y = 0; y < ex->height; y++) {
+        double lat = 90 - (y + 0.5) * 180.0 / ex->height;
+        if (lat > -58 || lat < -72) continue;
+        for (int x = 0; x < ex->width; x++) {
+            double lon = -180 + (x + 0.5) * 360.0 / ex->width;
+            size_t i = (size_t)y * ex->width + x;
+            float z = ex->elevation[i];
+            if (lon < -60 || lon > 95 || z > -1000 || z < -4000) continue;
+            n++;
+            black += albedo[3 * i + 2] < 30.0f / 255;
+        }
+    }
+    return n ? (double)black / n : NAN;
+}
+
+/* The repair on the real data: the band is repainted, and every other texel is
+ * Blue Marble's own byte. */
+static void test_ocean_repair_blue_marble(void **state) {
+    fixture *f = *state;
+    const pg_exemplar *ex = &f->ex;
+    pg_error err = {0};
+    pg_image raw = {0};
+    assert_int_equal(pg_image_read(PG_MARBLE_ALBEDO, 0, &raw, &err), PG_OK);
+    assert_int_equal(raw.width, ex->width); /* the common grid is the albedo's */
+    const size_t n = (size_t)ex->width * ex->height;
+    float *rawf = malloc(3 * n * sizeof *rawf);
+    assert_non_null(rawf);
+    size_t changed = 0, south = 0;
+    for (size_t i = 0; i < n; i++) {
+        int diff = 0;
+        for (int c = 0; c < 3; c++) {
+            rawf[3 * i + c] = raw.data[i * raw.channels + c] * raw.unit_scale;
+            diff |= rawf[3 * i + c] != ex->albedo[3 * i + c];
+        }
+        if (!diff) continue;
+        changed++;
+        size_t y = i / (size_t)ex->width;
+        south += 90 - (y + 0.5) * 180.0 / ex->height < -55;
+        assert_true(ex->elevation[i] < ex->sea_level); /* only the ocean */
+        for (int c = 0; c < 3; c++)                    /* on the 8-bit grid */
+            assert_float_equal(ex->albedo[3 * i + c] * 255, roundf(ex->albedo[3 * i + c] * 255),
+                               1e-3);
+    }
+    double before = band_black_share(ex, rawf), after = band_black_share(ex, ex->albedo);
+    print_message("repainted %zu texels (%.0f%% south of 55 S); band at 1-4 km black: %.2f -> "
+                  "%.3f\n",
+                  changed, 100.0 * south / changed, before, after);
+    assert_true(strstr(ex->notes, "ocean texels repainted") != NULL);
+    assert_true(before > 0.5);
+    assert_true(after < 0.05);
+    assert_true(changed > 20000 && changed < 0.05 * n);
+    assert_true(south > 0.7 * changed);
+    free(rawf);
+    pg_image_free(&raw);
+}
+
+/* A synthetic exemplar: ocean whose colour follows depth (blue 200 at the coast down to
+ * 20 at 5 km, as Blue Marble's), depth rising from 5 km to 0 along x. The water rule
+ * (blue under 0.6) leaves the shallowest 1.3 km out of the curve, so the squares
+ * below sit in 2.6-3.1 km of water. */
+static void synthetic(pg_exemplar *ex, int w, int h, int follows) {
+    memset(ex, 0, sizeof *ex);
+    ex->width = w, ex->height = h;
+    ex->albedo = malloc((size_t)3 * w * h * sizeof *ex->albedo);
+    ex->elevation = malloc((size_t)w * h * sizeof *ex->elevation);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + x;
+            double d = 5000.0 * (w - x) / w; /* metres below sea level */
+            ex->elevation[i] = (float)-d;
+            int b = follows ? (int)lround(200 - 180 * d / 5000) : 90;
+            int g = follows ? (int)lround(120 - 120 * d / 5000) : 40;
+            ex->albedo[3 * i] = 2.0f / 255;
+            ex->albedo[3 * i + 1] = (float)g * (1.0f / 255);
+            ex->albedo[3 * i + 2] = (float)b * (1.0f / 255);
+        }
+}
+
+/* paint a square of side s at (x0, y0) the abyss's colour (r, 0, 18) */
+static void dark_square(pg_exemplar *ex, int x0, int y0, int s, int r) {
+    for (int y = y0; y < y0 + s; y++)
+        for (int x = x0; x < x0 + s; x++) {
+            float *a = ex->albedo + 3 * ((size_t)y * ex->width + x);
+            a[0] = (float)r * (1.0f / 255), a[1] = 0, a[2] = 18.0f / 255;
+        }
+}
+
+static void test_ocean_repair_rule(void **state) {
+    (void)state;
+    const int w = 400, h = 200; /* 80 000 texels: a region needs 16 */
+    pg_error err = {0};
+    uint64_t rep = 0;
+    pg_exemplar ex, ref;
+    /* a large dark square in 1-2 km of water is repainted to the colour around it; a
+     * dark square of 9 texels (under the region size) and one that is redder than the
+     * curve (a different hue, not missing shading) stay */
+    synthetic(&ex, w, h, 1);
+    synthetic(&ref, w, h, 1);
+    dark_square(&ex, 150, 50, 40, 2);
+    dark_square(&ex, 150, 150, 3, 2);
+    dark_square(&ex, 200, 120, 20, 60);
+    assert_int_equal(pg_exemplar_repair_ocean(&ex, &rep, &err), PG_OK);
+    assert_int_equal(rep, 40 * 40);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + x;
+            int in_big = x >= 150 && x < 190 && y >= 50 && y < 90;
+            for (int c = 0; c < 3; c++) {
+                float v = ex.albedo[3 * i + c], r = ref.albedo[3 * i + c];
+                if (in_big) /* the curve's colour: within 2 steps of the truth */
+                    assert_true(fabsf(v - r) * 255 <= 2.01f);
+                else if (!(x >= 150 && x < 153 && y >= 150 && y < 153) &&
+                         !(x >= 200 && x < 220 && y >= 120 && y < 140))
+                    assert_true(v == r); /* bit for bit */
+            }
+        }
+    float *small = ex.albedo + 3 * ((size_t)151 * w + 151), *red;
+    assert_true(small[2] == 18.0f / 255); /* left dark */
+    red = ex.albedo + 3 * ((size_t)130 * w + 210);
+    assert_true(red[0] == 60.0f * (1.0f / 255) && red[2] == 18.0f / 255);
+    pg_exemplar_free(&ex);
+    /* an ocean of one colour: the dark square is repainted that colour */
+    synthetic(&ex, w, h, 0);
+    dark_square(&ex, 150, 50, 40, 2);
+    assert_int_equal(pg_exemplar_repair_ocean(&ex, &rep, &err), PG_OK);
+    assert_int_equal(rep, 40 * 40);
+    float *sq = ex.albedo + 3 * ((size_t)70 * w + 170);
+    assert_true(sq[1] == 40.0f * (1.0f / 255) && sq[2] == 90.0f * (1.0f / 255));
+    pg_exemplar_free(&ex);
+    /* texture within the curve's reach (blue and green +-15 steps, hashed per texel)
+     * is the ocean's own variety: nothing changes */
+    synthetic(&ex, w, h, 1);
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        uint32_t k = (uint32_t)i * 2654435761u;
+        int d = (int)(k >> 27) - 15; /* -15..16 */
+        for (int c = 1; c < 3; c++) {
+            float v = ex.albedo[3 * i + c] * 255 + (float)(d > 15 ? 15 : d);
+            ex.albedo[3 * i + c] = fminf(255, fmaxf(0, v)) * (1.0f / 255);
+        }
+    }
+    float *before = malloc((size_t)3 * w * h * sizeof *before);
+    assert_non_null(before);
+    memcpy(before, ex.albedo, (size_t)3 * w * h * sizeof *before);
+    assert_int_equal(pg_exemplar_repair_ocean(&ex, &rep, &err), PG_OK);
+    assert_int_equal(rep, 0);
+    assert_memory_equal(before, ex.albedo, (size_t)3 * w * h * sizeof *before);
+    free(before);
+    pg_exemplar_free(&ex);
+    pg_exemplar_free(&ref);
+}
+
 /* The fingerprint names the sources as the load does, repeats for the same files and
  * options, and changes with an option or with a file rewritten in place. */
 static void test_fingerprint(void **state) {
@@ -178,6 +335,8 @@ int main(void) {
         cmocka_unit_test(test_blue_marble_orientation),
         cmocka_unit_test(test_calibration_agrees_with_water_mask),
         cmocka_unit_test(test_fingerprint),
+        cmocka_unit_test(test_ocean_repair_blue_marble),
+        cmocka_unit_test(test_ocean_repair_rule),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -84,6 +84,13 @@ pg_status pg_exemplar_calibrate(const float *grey, const uint8_t *water, int wid
 double pg_exemplar_mask_agreement(const float *height, float sea_level, const uint8_t *water,
                                   size_t n);
 
+/* Repaint, in place, the large ocean regions whose colour is far darker than the
+ * albedo's own depth-to-colour curve gives for their depth (Blue Marble's Southern
+ * Ocean band without bathymetry; data/README.md, "Ocean colour repair"). Every other
+ * texel is left bit for bit. *repaired receives the texels repainted.
+ * pg_exemplar_load calls it; it is public for tests. */
+pg_status pg_exemplar_repair_ocean(pg_exemplar *ex, uint64_t *repaired, pg_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -237,6 +237,15 @@ pg_status pg_exemplar_load(const pg_exemplar_opts *o, pg_exemplar *ex, pg_error 
     if (st != PG_OK) goto fail;
     ex->elevation = hgt.data;
     hgt.data = NULL;
+    uint64_t repaired = 0;
+    st = pg_exemplar_repair_ocean(ex, &repaired, err);
+    if (st != PG_OK) goto fail;
+    if (repaired) {
+        char what[96];
+        snprintf(what, sizeof what, "%llu ocean texels repainted from depth (%%s); ",
+                 (unsigned long long)repaired);
+        note(ex, what, "data/README.md, \"Ocean colour repair\"");
+    }
     measure_agreement(ex);
     return PG_OK;
 fail:
