@@ -156,12 +156,17 @@ static double band_black_share(const pg_exemplar *ex, const float *albedo) {
     return n ? (double)black / n : NAN;
 }
 
-/* The repair on the real data: the band is repainted, and every other texel is
- * Blue Marble's own byte. */
+/* The repair on the real data (--repair-ocean): the band is repainted, and every
+ * other texel is Blue Marble's own byte; without the option, every texel is. */
 static void test_ocean_repair_blue_marble(void **state) {
     fixture *f = *state;
-    const pg_exemplar *ex = &f->ex;
     pg_error err = {0};
+    pg_exemplar rep;
+    pg_exemplar_opts o;
+    pg_exemplar_opts_default(&o);
+    o.repair_ocean = true;
+    assert_int_equal(pg_exemplar_load(&o, &rep, &err), PG_OK);
+    const pg_exemplar *ex = &rep;
     pg_image raw = {0};
     assert_int_equal(pg_image_read(PG_MARBLE_ALBEDO, 0, &raw, &err), PG_OK);
     assert_int_equal(raw.width, ex->width); /* the common grid is the albedo's */
@@ -169,12 +174,15 @@ static void test_ocean_repair_blue_marble(void **state) {
     float *rawf = malloc(3 * n * sizeof *rawf);
     assert_non_null(rawf);
     size_t changed = 0, south = 0;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            rawf[3 * i + c] = raw.data[i * raw.channels + c] * raw.unit_scale;
+    assert_memory_equal(rawf, f->ex.albedo, 3 * n * sizeof *rawf); /* the default load */
+    assert_true(strstr(f->ex.notes, "repainted") == NULL);
     for (size_t i = 0; i < n; i++) {
         int diff = 0;
-        for (int c = 0; c < 3; c++) {
-            rawf[3 * i + c] = raw.data[i * raw.channels + c] * raw.unit_scale;
+        for (int c = 0; c < 3; c++)
             diff |= rawf[3 * i + c] != ex->albedo[3 * i + c];
-        }
         if (!diff) continue;
         changed++;
         size_t y = i / (size_t)ex->width;
@@ -195,6 +203,7 @@ static void test_ocean_repair_blue_marble(void **state) {
     assert_true(south > 0.7 * changed);
     free(rawf);
     pg_image_free(&raw);
+    pg_exemplar_free(&rep);
 }
 
 /* A synthetic exemplar: ocean whose colour follows depth (blue 200 at the coast down to

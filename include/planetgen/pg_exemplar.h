@@ -33,6 +33,7 @@ typedef struct pg_exemplar_opts {
     double sea_level;        /* NaN: automatic (0 m after calibration / for metres) */
     uint64_t max_pixels;     /* per input image; 0 = PG_IMAGE_DEFAULT_MAX_PIXELS */
     int grid_width;          /* common grid width (2:1); 0 = the coarser input's width */
+    bool repair_ocean;       /* pg_exemplar_repair_ocean after the load; default off */
 } pg_exemplar_opts;
 
 void pg_exemplar_opts_default(pg_exemplar_opts *o);
@@ -88,7 +89,7 @@ double pg_exemplar_mask_agreement(const float *height, float sea_level, const ui
  * albedo's own depth-to-colour curve gives for their depth (Blue Marble's Southern
  * Ocean band without bathymetry; data/README.md, "Ocean colour repair"). Every other
  * texel is left bit for bit. *repaired receives the texels repainted.
- * pg_exemplar_load calls it; it is public for tests. */
+ * pg_exemplar_load calls it when opts.repair_ocean is set. */
 pg_status pg_exemplar_repair_ocean(pg_exemplar *ex, uint64_t *repaired, pg_error *err);
 
 #ifdef __cplusplus

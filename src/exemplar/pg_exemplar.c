@@ -238,7 +238,7 @@ pg_status pg_exemplar_load(const pg_exemplar_opts *o, pg_exemplar *ex, pg_error 
     ex->elevation = hgt.data;
     hgt.data = NULL;
     uint64_t repaired = 0;
-    st = pg_exemplar_repair_ocean(ex, &repaired, err);
+    if (o->repair_ocean) st = pg_exemplar_repair_ocean(ex, &repaired, err);
     if (st != PG_OK) goto fail;
     if (repaired) {
         char what[96];

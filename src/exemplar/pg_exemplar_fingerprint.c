@@ -45,7 +45,7 @@ pg_status pg_exemplar_fingerprint(const pg_exemplar_opts *o, uint64_t *fp, char 
     const char *tag = "planetgen-exemplar-sources-v1 " PG_SOURCE_HASH;
     h = mix(h, tag, strlen(tag));
     double dbl[3] = {o->height_scale, o->height_offset, o->sea_level};
-    uint64_t ints[2] = {o->max_pixels, (uint64_t)(int64_t)o->grid_width};
+    uint64_t ints[3] = {o->max_pixels, (uint64_t)(int64_t)o->grid_width, o->repair_ocean};
     h = mix(h, dbl, sizeof dbl);
     h = mix(h, ints, sizeof ints);
     const char *apath = o->albedo_path ? o->albedo_path : PG_MARBLE_ALBEDO;
