@@ -190,6 +190,16 @@ static void test_world_level_sampling(void **state) {
         assert_non_null(m2);
         assert_int_equal(pg_planet_world_level(&w, r, 0, 6 * r, NULL, m2, &e), PG_OK);
         assert_memory_equal(m, m2, (size_t)(3 * r + 1) * r);
+        /* the temperature of the climate constraint: the same sample, whole degrees */
+        int8_t *tc = malloc((size_t)6 * r * r);
+        float *tf = malloc((size_t)6 * r * r * sizeof *tf);
+        assert_true(tc && tf);
+        pg_planet_world wt = {n, temp, elev, prec}; /* temperature in the guide's place */
+        assert_int_equal(pg_planet_world_level_climate(&w, r, 0, 6 * r, NULL, NULL, tc, &e), PG_OK);
+        assert_int_equal(pg_planet_world_level(&wt, r, 0, 6 * r, tf, NULL, &e), PG_OK);
+        for (int64_t id = 0; id < 6 * r * r; id++)
+            assert_int_equal(tc[id], (int8_t)lrint(fmin(127, fmax(-128, tf[id]))));
+        free(tc), free(tf);
         pg_cube_grid grid;
         assert_int_equal(pg_cube_grid_init(&grid, PG_CUBE_DEFAULT_PROJECTION, 1, (int)r, &e),
                          PG_OK);
@@ -223,7 +233,7 @@ static void test_world_level_sampling(void **state) {
 /* equirect: the guide and the type map as equirectangular maps given by the caller
  * (pg_planet_world_guide, pg_planet_world_types); otherwise the synthesis samples the
  * world on the cube itself, as `generate` does. */
-static void two_zone_guidance(bool equirect) {
+static void two_zone_guidance(bool equirect, uint64_t seed) {
     size_t nw = (size_t)6 * WN * WN;
     float *elev = malloc(nw * sizeof(float)), *temp = malloc(nw * sizeof(float)),
           *prec = malloc(nw * sizeof(float));
@@ -241,7 +251,7 @@ static void two_zone_guidance(bool equirect) {
     pg_planet_synth_params_default(&p);
     p.tiles = 1;
     p.tile_size = 128;
-    p.synth.seed = 5;
+    p.synth.seed = seed;
     p.layout = PG_LAYOUT_WORLD;
     p.world = &w;
     p.guide = equirect ? &guide : NULL;
@@ -268,8 +278,8 @@ static void two_zone_guidance(bool equirect) {
         match[cold] += cold ? t < 0.0f : t > 10.0f;
     }
     double fc = (double)match[1] / total[1], fh = (double)match[0] / total[0];
-    print_message("material from the matching zone (%s): cold %.3f, hot %.3f\n",
-                  equirect ? "equirectangular maps" : "sampled on the cube", fc, fh);
+    print_message("material from the matching zone (%s, seed %d): cold %.3f, hot %.3f\n",
+                  equirect ? "equirectangular maps" : "sampled on the cube", (int)seed, fc, fh);
     assert_true(fc >= 0.9);
     assert_true(fh >= 0.9);
     (void)E;
@@ -281,14 +291,21 @@ static void two_zone_guidance(bool equirect) {
     free(elev), free(temp), free(prec);
 }
 
+/* Several seeds: one seed once passed by chance while others took a third of the hot
+ * zone's material from Siberia's taiga (docs/generate.md, "Method": "Climate
+ * constraint"). Seeds 7 and 8 were the worst then (0.666 and 0.826). */
+static const uint64_t two_zone_seeds[] = {5, 7, 8};
+
 static void test_two_zone_guidance(void **state) {
     (void)state;
-    two_zone_guidance(false);
+    for (size_t k = 0; k < sizeof two_zone_seeds / sizeof *two_zone_seeds; k++)
+        two_zone_guidance(false, two_zone_seeds[k]);
 }
 
 static void test_two_zone_guidance_equirect(void **state) {
     (void)state;
-    two_zone_guidance(true);
+    for (size_t k = 0; k < sizeof two_zone_seeds / sizeof *two_zone_seeds; k++)
+        two_zone_guidance(true, two_zone_seeds[k]);
 }
 
 /* ---- sea ice (pg_planet_sea_ice.c) ---- */

@@ -78,6 +78,12 @@ pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_ma
  * equirectangular step. Either output may be NULL; each holds (row1 - row0) r values. */
 pg_status pg_planet_world_level(const pg_planet_world *w, int64_t r, int64_t row0, int64_t row1,
                                 float *guide, uint8_t *mask, pg_error *err);
+/* The same with the annual mean temperature as well (temp, whole degrees C, rounded and
+ * clamped to the int8 range; may be NULL): the climate constraint's target (docs/generate.md,
+ * "Method": "Climate constraint"). */
+pg_status pg_planet_world_level_climate(const pg_planet_world *w, int64_t r, int64_t row0,
+                                        int64_t row1, float *guide, uint8_t *mask, int8_t *temp,
+                                        pg_error *err);
 /* The climate rule's allowed types at the world's own texel i. */
 uint8_t pg_planet_world_mask_at(const pg_planet_world *w, size_t i);
 

@@ -45,6 +45,7 @@ static void ctx_free(pg_ps_ctx *c) {
     for (int t = 0; t < PG_TYPE_COUNT; t++)
         free(c->valid[t]);
     pg_ps_rows_free(c->mask, &c->smask);
+    pg_ps_rows_free(c->ttemp, &c->sttemp);
     pg_ps_rows_free(c->guide, &c->sguide);
     free(c->world_t);
     free(c->world_p);
@@ -74,10 +75,13 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
     /* the type mask and the guide of each level, at the finest level's size; distributed,
      * reserved with no row open: each level opens its window (prepare_level) */
     const pg_ps_window none = {.whole = false};
-    void *mask = NULL, *guide = NULL;
+    void *mask = NULL, *guide = NULL, *ttemp = NULL;
     pg_status st = PG_OK;
     if (p->types || pg_ps_world_types(p))
         st = pg_ps_rows_alloc(c, &none, (int)c->N, 0, 1, false, &mask, &c->smask, err);
+    if (!st && pg_ps_world_climate(p))
+        st = pg_ps_rows_alloc(c, &none, (int)c->N, 0, 1, false, &ttemp, &c->sttemp, err);
+    c->ttemp = ttemp;
     if (!st && (p->guide || pg_ps_world_guide(p)))
         st =
             pg_ps_rows_alloc(c, &none, (int)c->N, 0, sizeof(float), false, &guide, &c->sguide, err);
@@ -98,6 +102,7 @@ static pg_status ctx_init(pg_ps_ctx *c, const pg_synth_exemplar *ex,
 static pg_status open_level_buffers(pg_ps_ctx *c, const pg_ps_level *L, pg_error *err) {
     pg_status st = PG_OK;
     if (c->smask.base) st = pg_ps_rows_open(&L->win, L->r, 0, 1, &c->smask, err);
+    if (!st && c->sttemp.base) st = pg_ps_rows_open(&L->win, L->r, 0, 1, &c->sttemp, err);
     if (!st && c->sguide.base)
         st = pg_ps_rows_open(&L->win, L->r, 0, sizeof(float), &c->sguide, err);
     return st;

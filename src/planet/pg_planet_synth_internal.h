@@ -78,10 +78,13 @@ typedef struct pg_ps_ctx {
     uint32_t *valid[PG_TYPE_COUNT];
     size_t nvalid[PG_TYPE_COUNT];
     uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
+    /* layout world's climate constraint: the world's temperature per level texel (whole
+     * degrees C) and the exemplar texels' own (world_t below) */
+    int8_t *ttemp;
     /* guide */
-    float *guide;          /* per level texel, metres */
-    pg_span smask, sguide; /* distributed: reserved at the finest level's size, each
-                              level's window opened as it comes */
+    float *guide;                  /* per level texel, metres */
+    pg_span smask, sguide, sttemp; /* distributed: reserved at the finest level's size, each
+                                      level's window opened as it comes */
     /* layout world: the exemplar's own coarse climate (pg_planet_synth_world.c) */
     float *world_t, *world_p;
     pg_planet_synth_info *info;
@@ -170,6 +173,12 @@ static inline bool pg_ps_world_guide(const pg_planet_synth_params *p) {
 }
 static inline bool pg_ps_world_types(const pg_planet_synth_params *p) {
     return !p->types && p->layout == PG_LAYOUT_WORLD && p->world;
+}
+
+/* The climate constraint (the world's temperature per level texel) holds in layout world
+ * whatever gives the type map. */
+static inline bool pg_ps_world_climate(const pg_planet_synth_params *p) {
+    return p->layout == PG_LAYOUT_WORLD && p->world;
 }
 
 pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err);

@@ -72,12 +72,13 @@ int pg_planet_synth_face_size(int tiles, int tile_size) {
 
 /* Bytes per finest texel, by phase (see pg_planet_synth_run for the order of
  * allocations): synthesis (S, V with borders, the parent level, orient, type mask,
- * guide, Gain-pit at the next-finest level) and delivery (planet 16, S and H 8, and
- * what the final pit removal allocates, about 10); the sea ice's noise grids on top. */
+ * the world's temperature, guide, Gain-pit at the next-finest level) and delivery (planet 16, S and
+ * H 8, and what the final pit removal allocates, about 10); the sea ice's noise grids on top. */
 double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_params *p) {
     double n = (double)tiles * tile_size, px = 6.0 * n * n;
     double border = 6.0 * 4.0 * (n + 2) * 2 * 16;
     double synth = 8 * 1.25 + 1 + (p && (p->types || pg_ps_world_types(p)) ? 1 : 0) +
+                   (p && pg_ps_world_climate(p) ? 1 : 0) + /* the world's temperature */
                    (p && (p->guide || pg_ps_world_guide(p)) ? 4 : 0) +
                    (p && p->pits ? 0.25 * 18 : 0);
     double deliver = 16 + 8 + (p && p->pits ? 12 : 0);

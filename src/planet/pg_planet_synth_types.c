@@ -122,6 +122,21 @@ static bool allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
     return (m >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
 }
 
+/* The climate constraint of layout world: the exemplar texel q's own annual mean
+ * temperature (its cell of the exemplar's coarse climate, pg_planet_synth_world.c) lies
+ * within PS_CLIMATE_K of the world's at the texel (tt, whole degrees C). Always true
+ * without a world climate. */
+#define PS_CLIMATE_K 10.0f
+#define PS_CLIMATE_N 64 /* PS_WORLD_EXEMPLAR_N */
+
+static bool climate_ok(const pg_ps_ctx *c, int tt, uint32_t q) {
+    if (!c->ttemp || !c->world_t) return true;
+    const int E = c->ex->face_size, b = E / PS_CLIMATE_N;
+    const int f = pg_synth_face(q), u = pg_synth_u(q), v = pg_synth_v(q);
+    const float te = c->world_t[((size_t)f * PS_CLIMATE_N + v / b) * PS_CLIMATE_N + u / b];
+    return fabsf(te - (float)tt) <= PS_CLIMATE_K;
+}
+
 /* A hashed draw among the exemplar texels whose type m allows. */
 static uint32_t draw_valid(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
     size_t total = 0;
@@ -142,7 +157,14 @@ static uint32_t draw_valid(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
  * closest in level height to what it had (so the terrain keeps its shape): the
  * coherent candidates S[p+e] - h e of its 8 neighbours first (a coherent one wins
  * unless a draw is more than twice as close), then 8 hashed draws among the valid
- * exemplar texels. */
+ * exemplar texels.
+ *
+ * In layout world the climate constraint joins it (docs/generate.md, "Method":
+ * "Climate constraint"): a texel whose exemplar source is more than PS_CLIMATE_K warmer
+ * or colder than the world there is replaced the same way by a candidate that meets
+ * both constraints. When none of the 16 does, a texel of an allowed type stays as it
+ * is and one of a disallowed type takes the best of the allowed type alone, as before:
+ * a world warmer or colder than anything on Earth keeps the type constraint. */
 void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v) {
     static const int nb[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -161,10 +183,14 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             if (x + 2 * TYPES_AHEAD < v->w)
                 __builtin_prefetch(c->etype + pg_synth_texel(c->ex, v->S[i + 2 * TYPES_AHEAD]));
             uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
-            if (allowed(c, m, v->S[i])) continue;
-            float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i], best = INFINITY;
-            uint32_t bq = 0;
-            float bv = 0;
+            const int tt =
+                c->ttemp ? c->ttemp[((size_t)v->face * r + (size_t)gy) * r + (size_t)gx] : 0;
+            const bool type_ok = allowed(c, m, v->S[i]);
+            if (type_ok && climate_ok(c, tt, v->S[i])) continue;
+            float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
+            float best = INFINITY, best_t = INFINITY; /* both constraints; the type alone */
+            uint32_t bq = 0, bq_t = 0;
+            float bv = 0, bv_t = 0;
             for (int k = 0; k < 16; k++) {
                 uint32_t q;
                 float vq = 0, w = 1;
@@ -179,10 +205,16 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                     w = 2;
                 }
                 float d = w * fabsf(pg_synth_level_height(c->ex, scale, q) + vq - want);
-                if (d < best) best = d, bq = q, bv = vq;
+                if (d < best_t) best_t = d, bq_t = q, bv_t = vq;
+                if (d < best && climate_ok(c, tt, q)) best = d, bq = q, bv = vq;
             }
-            v->S[i] = bq;
-            v->V[i] = bv;
+            if (best < INFINITY) {
+                v->S[i] = bq;
+                v->V[i] = bv;
+            } else if (!type_ok) {
+                v->S[i] = bq_t;
+                v->V[i] = bv_t;
+            }
         }
     }
 }

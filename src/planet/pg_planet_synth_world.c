@@ -193,20 +193,22 @@ uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y) {
     return q;
 }
 
-/* The guide and the type mask of level r from the macro world, in one pass over the
- * rows this process owns (pg_planet_world_level); whichever the params give as maps of
- * their own is left to pg_ps_guide_level and pg_ps_types_level. */
+/* The guide, the type mask and the temperature of level r from the macro world, in one
+ * pass over the rows this process owns (pg_planet_world_level_climate); whichever the
+ * params give as maps of their own is left to pg_ps_guide_level and pg_ps_types_level. */
 pg_status pg_ps_world_level(pg_ps_ctx *c, int r, pg_error *err) {
-    const bool guide = pg_ps_world_guide(c->p), types = pg_ps_world_types(c->p);
+    const bool guide = pg_ps_world_guide(c->p), types = pg_ps_world_types(c->p),
+               temp = c->ttemp != NULL;
     pg_status st = PG_OK;
-    for (int f = 0; f < 6 && !st && (guide || types); f++) {
+    for (int f = 0; f < 6 && !st && (guide || types || temp); f++) {
         int y0, y1;
         pg_ps_owned_rows(c, r, f, &y0, &y1);
         const size_t o = ((size_t)f * r + y0) * r;
         if (y0 < y1)
-            st =
-                pg_planet_world_level(c->p->world, r, (int64_t)f * r + y0, (int64_t)f * r + y1,
-                                      guide ? c->guide + o : NULL, types ? c->mask + o : NULL, err);
+            st = pg_planet_world_level_climate(c->p->world, r, (int64_t)f * r + y0,
+                                               (int64_t)f * r + y1, guide ? c->guide + o : NULL,
+                                               types ? c->mask + o : NULL,
+                                               temp ? c->ttemp + o : NULL, err);
     }
     return st;
 }

@@ -78,8 +78,12 @@ static uint8_t climate_mask(float h, float t, float p) {
  * grid (the same projection, so a level texel's centre is a linear map of the world's
  * texel coordinates), averaged over k x k points of the texel when the level is coarser
  * than the world. hpt is the world interleaved (elevation, temperature, rain). */
+static int8_t temp_c(double t) {
+    return (int8_t)lrint(fmin(127, fmax(-128, t)));
+}
+
 static void level_row(const pg_cube_grid *g, const float *hpt, int64_t r, int f, int64_t y,
-                      float *guide, uint8_t *mask) {
+                      float *guide, uint8_t *mask, int8_t *temp) {
     const int64_t n = g->n;
     const int k = r >= n ? 1 : (int)((n + r - 1) / r);
     const double scale = (double)n / (double)r;
@@ -103,6 +107,7 @@ static void level_row(const pg_cube_grid *g, const float *hpt, int64_t r, int f,
             }
             if (guide) guide[x] = v[0];
             if (mask) mask[x] = climate_mask(v[0], v[1], v[2]);
+            if (temp) temp[x] = temp_c(v[1]);
         }
         return;
     }
@@ -120,11 +125,18 @@ static void level_row(const pg_cube_grid *g, const float *hpt, int64_t r, int f,
         const float h = (float)(acc[0] / kk);
         if (guide) guide[x] = h;
         if (mask) mask[x] = climate_mask(h, (float)(acc[1] / kk), (float)(acc[2] / kk));
+        if (temp) temp[x] = temp_c(acc[1] / kk);
     }
 }
 
 pg_status pg_planet_world_level(const pg_planet_world *w, int64_t r, int64_t row0, int64_t row1,
                                 float *guide, uint8_t *mask, pg_error *err) {
+    return pg_planet_world_level_climate(w, r, row0, row1, guide, mask, NULL, err);
+}
+
+pg_status pg_planet_world_level_climate(const pg_planet_world *w, int64_t r, int64_t row0,
+                                        int64_t row1, float *guide, uint8_t *mask, int8_t *temp,
+                                        pg_error *err) {
     pg_status st = check_world(w, 4, err);
     if (st) return st;
     if (r < 1 || row0 < 0 || row1 > 6 * r || row0 > row1)
@@ -144,7 +156,7 @@ pg_status pg_planet_world_level(const pg_planet_world *w, int64_t r, int64_t row
     for (int64_t row = row0; row < row1; row++) {
         size_t o = (size_t)(row - row0) * (size_t)r;
         level_row(&g, hpt, r, (int)(row / r), row % r, guide ? guide + o : NULL,
-                  mask ? mask + o : NULL);
+                  mask ? mask + o : NULL, temp ? temp + o : NULL);
     }
     free(hpt);
     return PG_OK;
