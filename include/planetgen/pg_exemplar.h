@@ -33,7 +33,7 @@ typedef struct pg_exemplar_opts {
     double sea_level;        /* NaN: automatic (0 m after calibration / for metres) */
     uint64_t max_pixels;     /* per input image; 0 = PG_IMAGE_DEFAULT_MAX_PIXELS */
     int grid_width;          /* common grid width (2:1); 0 = the coarser input's width */
-    bool repair_ocean;       /* pg_exemplar_repair_ocean after the load; default off */
+    bool repair_ocean;       /* pg_exemplar_repair_ocean after the load; default on */
 } pg_exemplar_opts;
 
 void pg_exemplar_opts_default(pg_exemplar_opts *o);

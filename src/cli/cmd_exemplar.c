@@ -34,7 +34,7 @@ static void report_json(pg_cli *cli, const exemplar_args *a, const pg_exemplar *
     pg_json_set_number(p, "grid_width", ex->width);
     pg_json_set_number(p, "height_scale", a->in.height_scale);
     pg_json_set_number(p, "height_offset", a->in.height_offset);
-    pg_json_set_bool(p, "repair_ocean", a->in.repair_ocean);
+    pg_json_set_bool(p, "repair_ocean", !a->in.no_repair_ocean);
     pg_json_set_number(p, "sea_level_m", ex->sea_level);
     pg_json *res = pg_json_set_object(r, "results");
     pg_json_set_number(res, "albedo_width", ex->albedo_w);

@@ -374,7 +374,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
         pg_json_set_number(pp, "temperature_offset_K", a->temperature_offset);
         pg_json_set_bool(pp, "sea_ice", !a->no_sea_ice);
     }
-    pg_json_set_bool(pp, "repair_ocean", a->in.repair_ocean);
+    pg_json_set_bool(pp, "repair_ocean", !a->in.no_repair_ocean);
     pg_json_set_number(pp, "keep_levels", sc->keep);
     pg_json_set_number(pp, "exemplar_face_size", sc->face);
     pg_json_set_number(pp, "jitter", p->synth.jitter);

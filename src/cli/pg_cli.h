@@ -131,7 +131,7 @@ int pg_cli_parse_or_help(pg_cli *cli, const pg_opt *specs, int argc, char **argv
 typedef struct pg_cli_exemplar {
     const char *albedo, *height;
     double height_scale, height_offset, sea_level;
-    bool repair_ocean;
+    bool no_repair_ocean;
 } pg_cli_exemplar;
 
 #define PG_CLI_EXEMPLAR_INIT                                                                       \
@@ -160,15 +160,15 @@ typedef struct pg_cli_exemplar {
          "metres per input height unit (overrides the grey calibration)"},                           \
         {"--height-offset",           NULL, PG_OPT_DOUBLE, &(e).height_offset, -1e6, 1e6, NULL, "M", \
          "metres added after scaling"},                                                              \
-        {"--repair-ocean",                                                                           \
+        {"--no-repair-ocean",                                                                        \
          NULL,                                                                                       \
          PG_OPT_FLAG,                                                                                \
-         &(e).repair_ocean,                                                                          \
+         &(e).no_repair_ocean,                                                                       \
          0,                                                                                          \
          0,                                                                                          \
          NULL,                                                                                       \
          NULL,                                                                                       \
-         "repaint ocean regions far darker than their depth gives (Blue Marble's band)"},            \
+         "keep ocean regions far darker than their depth gives (Blue Marble's band)"},               \
     {                                                                                                \
         "--sea-level", NULL, PG_OPT_DOUBLE, &(e).sea_level, -12000, 12000, NULL, "M",                \
             "sea level in metres (default 0)"                                                        \

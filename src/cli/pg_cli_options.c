@@ -173,7 +173,7 @@ void pg_cli_exemplar_opts(const pg_cli_exemplar *e, pg_exemplar_opts *o) {
     o->height_scale = e->height_scale;
     o->height_offset = e->height_offset;
     o->sea_level = e->sea_level;
-    o->repair_ocean = e->repair_ocean;
+    o->repair_ocean = !e->no_repair_ocean;
 }
 
 static void print_opt_table(const pg_opt *specs, FILE *f) {

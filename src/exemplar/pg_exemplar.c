@@ -20,6 +20,7 @@ void pg_exemplar_opts_default(pg_exemplar_opts *o) {
     o->height_scale = NAN;
     o->height_offset = NAN;
     o->sea_level = NAN;
+    o->repair_ocean = true;
 }
 
 pg_status pg_exemplar_assemble_relief(const char *dir, int rows, int cols, pg_image *out,
