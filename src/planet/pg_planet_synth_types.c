@@ -137,19 +137,25 @@ static bool climate_ok(const pg_ps_ctx *c, int tt, uint32_t q) {
     return fabsf(te - (float)tt) <= PS_CLIMATE_K;
 }
 
-/* A hashed draw among the exemplar texels whose type m allows. */
-static uint32_t draw_valid(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
+/* Where a hashed draw among the exemplar texels whose type m allows lands: the address
+ * of its entry in the valid lists, or NULL when m allows no exemplar texel. */
+static const uint32_t *draw_slot(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
     size_t total = 0;
     for (int t = 0; t < PG_TYPE_COUNT; t++)
         if ((m >> t) & 1) total += c->nvalid[t];
-    if (!total) return 0;
+    if (!total) return NULL;
     size_t k = (size_t)h % total;
     for (int t = 0; t < PG_TYPE_COUNT; t++) {
         if (!((m >> t) & 1)) continue;
-        if (k < c->nvalid[t]) return c->valid[t][k];
+        if (k < c->nvalid[t]) return &c->valid[t][k];
         k -= c->nvalid[t];
     }
-    return 0;
+    return NULL;
+}
+
+/* The level height of exemplar texel q's row in the appearance table, to prefetch. */
+static const void *height_addr(const pg_ps_ctx *c, int scale, uint32_t q) {
+    return c->ex->app[scale] + pg_synth_texel(c->ex, q) * PG_SYNTH_MAX_DIMS;
 }
 
 /* Gain et al.'s type constraint, applied to the texels of one parity class of a view
@@ -188,25 +194,39 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             const bool type_ok = allowed(c, m, v->S[i]);
             if (type_ok && climate_ok(c, tt, v->S[i])) continue;
             float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
+            /* The 16 candidates: each is a few random reads (its type, its valid-list
+             * entry, its height), so all their addresses are gathered and prefetched
+             * first and the candidates are then weighed in their fixed order, as if
+             * one by one; the misses overlap instead of queueing. */
+            uint32_t q[16];
+            float vq[16];
+            const uint32_t *slot[16];
+            for (int k = 0; k < 8; k++) {
+                int ex = nb[k][0], ey = nb[k][1];
+                ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
+                q[k] = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
+                vq[k] = v->V[j];
+                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, q[k]));
+                __builtin_prefetch(height_addr(c, scale, q[k]));
+            }
+            for (int k = 8; k < 16; k++) {
+                slot[k] = draw_slot(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
+                vq[k] = 0;
+                if (slot[k]) __builtin_prefetch(slot[k]);
+            }
+            for (int k = 8; k < 16; k++) {
+                q[k] = slot[k] ? *slot[k] : 0;
+                __builtin_prefetch(height_addr(c, scale, q[k]));
+            }
             float best = INFINITY, best_t = INFINITY; /* both constraints; the type alone */
             uint32_t bq = 0, bq_t = 0;
             float bv = 0, bv_t = 0;
             for (int k = 0; k < 16; k++) {
-                uint32_t q;
-                float vq = 0, w = 1;
-                if (k < 8) {
-                    int ex = nb[k][0], ey = nb[k][1];
-                    ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
-                    q = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
-                    vq = v->V[j];
-                    if (!allowed(c, m, q)) continue;
-                } else {
-                    q = draw_valid(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
-                    w = 2;
-                }
-                float d = w * fabsf(pg_synth_level_height(c->ex, scale, q) + vq - want);
-                if (d < best_t) best_t = d, bq_t = q, bv_t = vq;
-                if (d < best && climate_ok(c, tt, q)) best = d, bq = q, bv = vq;
+                if (k < 8 && !allowed(c, m, q[k])) continue;
+                const float w = k < 8 ? 1 : 2;
+                float d = w * fabsf(pg_synth_level_height(c->ex, scale, q[k]) + vq[k] - want);
+                if (d < best_t) best_t = d, bq_t = q[k], bv_t = vq[k];
+                if (d < best && climate_ok(c, tt, q[k])) best = d, bq = q[k], bv = vq[k];
             }
             if (best < INFINITY) {
                 v->S[i] = bq;
