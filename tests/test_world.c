@@ -6,7 +6,7 @@
  *    realism report (planetgen inspect --json) shows the land where the plates put it
  *    (land fraction within 0.03 of --land-fraction), no copy of Earth (earth_copy_fraction
  *    <= 0.05), ice at the poles and not at the equator, no depression, and a
- *    mountain_belt_fraction from world.exr;
+ *    mountain_belt_fraction from world.exr, whose faces line up with height.exr's;
  *  - the guide and type mask sampled on the cube (pg_planet_world_level) against the
  *    world's own texels, directional samples and block means;
  *  - guidance through the library: a two-zone macro world (one hemisphere cold, the other
@@ -25,6 +25,7 @@
 
 #include "planetgen/pg_climate.h"
 #include "planetgen/pg_cube.h"
+#include "planetgen/pg_image.h"
 #include "planetgen/pg_planet_synth.h"
 
 #include <math.h>
@@ -69,6 +70,58 @@ static void cli(const char *args) {
     if (rc != 0) fail_msg("planetgen %s: exit %d: %s", args, rc, err);
 }
 
+/* Pearson correlation of a and b over n values. */
+static double correlation(const double *a, const double *b, size_t n) {
+    double ma = 0, mb = 0, sab = 0, saa = 0, sbb = 0;
+    for (size_t i = 0; i < n; i++)
+        ma += a[i] / (double)n, mb += b[i] / (double)n;
+    for (size_t i = 0; i < n; i++) {
+        sab += (a[i] - ma) * (b[i] - mb);
+        saa += (a[i] - ma) * (a[i] - ma);
+        sbb += (b[i] - mb) * (b[i] - mb);
+    }
+    return sab / sqrt(saa * sbb);
+}
+
+/* world.exr lines up with height.exr texel for texel (docs/generate.md, "Layout world":
+ * every face file puts row 0 at the face's +v edge). Per face, the delivered heights
+ * averaged over each macro texel correlate with the macro elevation as written (at least
+ * 0.5, as the guide makes them follow it), and better than with the elevation turned
+ * upside down, which is how world.exr was once written. */
+static void check_world_exr_rows(const char *dir) {
+    char wpath[700], hpath[700];
+    snprintf(wpath, sizeof wpath, "%s/p/world.exr", dir);
+    snprintf(hpath, sizeof hpath, "%s/p/height.exr", dir);
+    for (int f = 0; f < PG_CUBE_NFACES; f++) {
+        pg_image w, h;
+        pg_error e = {0};
+        assert_int_equal(pg_image_read_exr(wpath, pg_cube_face_name(f), &w, &e), PG_OK);
+        assert_int_equal(pg_image_read_exr(hpath, pg_cube_face_name(f), &h, &e), PG_OK);
+        const int n = w.width, b = h.width / n;
+        assert_true(w.channels == 4 && h.channels == 1 && b >= 1 && h.width == n * b);
+        size_t nn = (size_t)n * n;
+        double *elev = malloc(nn * sizeof *elev), *flip = malloc(nn * sizeof *flip),
+               *mean = calloc(nn, sizeof *mean);
+        assert_true(elev && flip && mean);
+        for (int y = 0; y < n; y++) /* channels in name order: elevation_m is the second */
+            for (int x = 0; x < n; x++) {
+                elev[(size_t)y * n + x] = w.data[((size_t)y * n + x) * 4 + 1];
+                flip[(size_t)y * n + x] = w.data[((size_t)(n - 1 - y) * n + x) * 4 + 1];
+            }
+        for (int y = 0; y < h.width; y++)
+            for (int x = 0; x < h.width; x++)
+                mean[(size_t)(y / b) * n + x / b] +=
+                    h.data[(size_t)y * h.width + x] / ((double)b * b);
+        double as_is = correlation(elev, mean, nn), turned = correlation(flip, mean, nn);
+        print_message("face %s: heights against world.exr's elevation %.3f, turned over %.3f\n",
+                      pg_cube_face_name(f), as_is, turned);
+        assert_true(as_is >= 0.5);
+        assert_true(as_is > turned);
+        free(elev), free(flip), free(mean);
+        pg_image_free(&w), pg_image_free(&h);
+    }
+}
+
 static void test_small_world(void **state) {
     (void)state;
     const char *build = getenv("PG_BUILD_DIR");
@@ -111,6 +164,7 @@ static void test_small_world(void **state) {
     assert_true(ipol >= 0.5 * epol);
     assert_true(dep == 0);
     assert_true(isfinite(belt)); /* the macro world's world.exr is read */
+    check_world_exr_rows(dir);
 }
 
 /* ---- guidance through the library ---- */

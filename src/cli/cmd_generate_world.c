@@ -131,12 +131,18 @@ static pg_status write_exr(const char *path, const gen_world *w, pg_error *err) 
     const char *names[PG_CUBE_NFACES];
     memset(parts, 0, sizeof parts);
     pg_status st = PG_OK;
+    /* Cube fields are stored bottom-up (row 0 = the face's -v edge); like every face image
+     * of the planet directory (height.exr, albedo_+X.png, source.exr), each part puts
+     * row 0 at the +v edge, so the files line up texel for texel. */
     for (int f = 0; f < PG_CUBE_NFACES && !st; f++) {
         names[f] = pg_cube_face_name(f);
         st = pg_image_alloc(&parts[f], (int)n, (int)n, 4, err);
-        for (size_t i = 0; !st && i < nn; i++)
-            for (int k = 0; k < 4; k++)
-                parts[f].data[i * 4 + k] = src[k][(size_t)f * nn + i];
+        for (int64_t y = 0; !st && y < n; y++)
+            for (int64_t x = 0; x < n; x++) {
+                size_t i = (size_t)(n - 1 - y) * n + x, j = (size_t)f * nn + (size_t)y * n + x;
+                for (int k = 0; k < 4; k++)
+                    parts[f].data[i * 4 + k] = src[k][j];
+            }
     }
     if (!st) st = pg_exr_write_parts(path, PG_CUBE_NFACES, names, parts, channels, err);
     for (int f = 0; f < PG_CUBE_NFACES; f++)

@@ -42,8 +42,9 @@ static pg_status read_convergent(const char *path, float **out, int64_t *n_out, 
             pg_image_free(&img);
             return pg_error_set(err, PG_ERR_NOMEM, "%s: out of memory", path);
         }
-        for (int64_t i = 0; i < n * n; i++)
-            conv[(size_t)f * n * n + i] = img.data[i * 4];
+        for (int64_t y = 0; y < n; y++) /* image row 0 is the face's +v edge */
+            for (int64_t x = 0; x < n; x++)
+                conv[((size_t)f * n + y) * n + x] = img.data[((size_t)(n - 1 - y) * n + x) * 4];
         pg_image_free(&img);
     }
     *out = conv, *n_out = n;
