@@ -459,6 +459,56 @@ static void test_remove_counted(void **state) {
     assert_true(with_depressions > 100);
 }
 
+/* The counts take the epsilon-surface from the minimal fill's flats when the guess
+ * checks out, and from a flood when it does not: here a flat B one ulp above flat A
+ * drains through A, so B's surface must rise past A's ulps, not start at B's own
+ * height, and the guess fails. The figures must still be the epsilon-fill's: a pit in
+ * B of depth 1 m, raised past all of A's ulps (the guess would put it only B's own few
+ * ulps above B). */
+static void test_stats_eps_fallback(void **state) {
+    (void)state;
+    enum { W = 24, H = 3 };
+    const float s = 1000.0f, s1 = nextafterf(1000.0f, INFINITY);
+    float dem[W * H];
+    for (int i = 0; i < W * H; i++)
+        dem[i] = 2000.0f; /* walls, above both flats */
+    dem[W + 0] = 0.0f;    /* the sea */
+    for (int x = 1; x <= 10; x++)
+        dem[W + x] = s; /* flat A */
+    for (int x = 11; x <= 20; x++)
+        dem[W + x] = s1;     /* flat B, draining through A */
+    dem[W + 15] = s1 - 1.0f; /* the pit */
+    pg_pits_topo t;
+    pg_pits_topo_grid(&t, W, H, NULL);
+    pg_pits_opts o;
+    pg_pits_opts_default(&o);
+    o.has_sea_level = true;
+    o.sea_level = 0.5;
+    /* the guess from the fill's flats is refused on this grid */
+    float fill[W * H], w[W * H], eps[W * H];
+    memcpy(fill, dem, sizeof fill);
+    o.method = PG_PITS_FILL;
+    o.epsilon = false;
+    assert_int_equal(pg_pits_remove(&t, fill, &o, NULL, NULL), PG_OK);
+    uint8_t *sk = NULL;
+    uint64_t ns = 0;
+    assert_int_equal(pits_begin(&t, fill, &o, &sk, NULL, &ns, NULL), PG_OK);
+    assert_int_not_equal(pits_meps_from_fill(&t, fill, sk, w), 0);
+    free(sk);
+    /* the epsilon-fill it must agree with */
+    memcpy(eps, dem, sizeof eps);
+    o.epsilon = true;
+    assert_int_equal(pg_pits_remove(&t, eps, &o, NULL, NULL), PG_OK);
+    assert_true(eps[W + 11] > s1); /* B rises past A's ulps */
+    pg_pits_stats st;
+    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &st, NULL), PG_OK);
+    assert_int_equal(st.depressions, 1);
+    assert_int_equal(st.depression_cells, 1);
+    assert_true(st.depression_volume_m3 == (double)eps[W + 15] - (double)dem[W + 15]);
+    assert_true(st.max_depth_m == (double)eps[W + 15] - (double)dem[W + 15]);
+    assert_true(eps[W + 15] > eps[W + 10]); /* the pit's surface is above all of A's */
+}
+
 /* The certificate that spares the count after a removal: whenever it holds, the
  * grid has no depression (raw grids with depressions must fail it); it holds on every
  * epsilon result, and on a plain fill with the epsilon-surface as the potential. */
@@ -578,11 +628,12 @@ static void test_bad_input_and_nodata(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_all_methods_drain), cmocka_unit_test(test_exact_fill),
-        cmocka_unit_test(test_hybrid_limits),     cmocka_unit_test(test_hybrid_length_limit),
-        cmocka_unit_test(test_thread_invariance), cmocka_unit_test(test_stats),
-        cmocka_unit_test(test_stats_reference),   cmocka_unit_test(test_bad_input_and_nodata),
-        cmocka_unit_test(test_remove_counted),    cmocka_unit_test(test_drain_certificate),
+        cmocka_unit_test(test_all_methods_drain),  cmocka_unit_test(test_exact_fill),
+        cmocka_unit_test(test_hybrid_limits),      cmocka_unit_test(test_hybrid_length_limit),
+        cmocka_unit_test(test_thread_invariance),  cmocka_unit_test(test_stats),
+        cmocka_unit_test(test_stats_reference),    cmocka_unit_test(test_bad_input_and_nodata),
+        cmocka_unit_test(test_remove_counted),     cmocka_unit_test(test_drain_certificate),
+        cmocka_unit_test(test_stats_eps_fallback),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

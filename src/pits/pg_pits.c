@@ -230,8 +230,8 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     if (!s && (plain_fill || eps_fill || descent))
         s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,
                                   before, err);
-    else if (!s)
-        s = pg_pits_stats_compute(t, in, o, area, before, err);
+    else if (!s) /* a removal's input: search for "no depression" only after */
+        s = pits_stats_compute_pitted(t, in, o, area, before, err);
     free(in);
     free(fill);
     if (!s && !counted) s = count_after(t, h, o, plain_fill ? w : NULL, area, after, err);

@@ -322,6 +322,11 @@ int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, cons
 pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const float *fill,
                                 const float *efill, const pg_pits_area *area, uint64_t nsinks,
                                 pg_pits_stats *st, pg_error *err);
+/* pg_pits_stats_compute for an h that very likely has depressions (the input of a
+ * removal): the same figures, without first searching for the case of none, which
+ * the fills then show at their own cost. */
+pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
+                                    const pg_pits_area *area, pg_pits_stats *st, pg_error *err);
 /* Whether h (states st from pits_begin) certainly has no depression: every OPEN cell
  * has a neighbour that is not OPEN, or whose p is lower and whose h is not higher. */
 int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p);

@@ -103,9 +103,18 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
     return PG_OK;
 }
 
-static int is_border(const pg_pits_topo *t, uint32_t id) {
-    uint32_t x = id % t->w, y = id / t->w;
-    return x == 0 || y == 0 || x == t->w - 1 || y == t->h - 1;
+/* With open edges, the border cells that are neither no-data nor sinks already become
+ * sinks: a pass over the perimeter only, so the pass over every cell needs no division
+ * to find its row and column. */
+static uint64_t mark_border(const pg_pits_topo *t, uint8_t *st) {
+    uint64_t count = 0;
+    const uint64_t w = t->w, h = t->h;
+    for (uint64_t y = 0; y < h; y++)
+        for (uint64_t x = 0; x < w; x += (y == 0 || y == h - 1 || w == 1) ? 1 : w - 1) {
+            uint8_t *c = &st[y * w + x];
+            if (*c == PITS_OPEN) *c = PITS_SINK, count++;
+        }
+    return count;
 }
 
 /* Marks sinks and no-data; returns the number of sinks or sets err on NaN. */
@@ -114,7 +123,7 @@ static pg_status mark_sinks(const pg_pits_topo *t, float *h, const pg_pits_opts 
     const int64_t n = (int64_t)t->ncells;
     int64_t bad = -1;
     uint64_t count = 0;
-    int edges = o->open_edges && t->kind == PG_PITS_GRID;
+    const int edges = o->open_edges && t->kind == PG_PITS_GRID;
     double sea = o->has_sea_level ? o->sea_level : -INFINITY;
 #pragma omp parallel for reduction(+ : count) reduction(max : bad) schedule(static)
     for (int64_t i = 0; i < n; i++) {
@@ -127,7 +136,7 @@ static pg_status mark_sinks(const pg_pits_topo *t, float *h, const pg_pits_opts 
                 s = PITS_NODATA;
                 h[i] = -INFINITY;
             }
-        } else if (v <= sea || (o->lakes && o->lakes[i]) || (edges && is_border(t, (uint32_t)i))) {
+        } else if (v <= sea || (o->lakes && o->lakes[i])) {
             s = PITS_SINK;
         }
         st[i] = s;
@@ -142,6 +151,7 @@ static pg_status mark_sinks(const pg_pits_topo *t, float *h, const pg_pits_opts 
                                     "no-data value was stated",
                                     (long long)i, (long long)(i % t->w), (long long)(i / t->w));
     }
+    if (edges) count += mark_border(t, st);
     *nsinks = count;
     return PG_OK;
 }
