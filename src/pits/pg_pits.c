@@ -165,13 +165,10 @@ static pg_status fill_of(const pg_pits_topo *t, const float *h, const pg_pits_op
 static pg_status eps_of_fill(const pg_pits_topo *t, const float *in, float *f,
                              const pg_pits_opts *o, float *w, pg_pits_stats *after, int *counted,
                              pg_error *err) {
-    uint8_t *st = NULL;
+    int exact = 0;
     uint64_t nsinks = 0;
-    pg_status s = pits_begin(t, f, o, &st, NULL, &nsinks, err); /* no-data: -inf for now */
+    pg_status s = pits_eps_from_fill(t, f, o, w, &exact, &nsinks, err);
     if (s) return s;
-    int exact = pits_meps_from_fill(t, f, st, w) == 0;
-    pits_end(t, f, o, st);
-    free(st);
     *counted = exact;
     if (exact) {
         memset(after, 0, sizeof *after);

@@ -322,6 +322,12 @@ int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, cons
 pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const float *fill,
                                 const float *efill, const pg_pits_area *area, uint64_t nsinks,
                                 pg_pits_stats *st, pg_error *err);
+/* The epsilon-surface of a minimal fill f's input into w, from f's flats
+ * (pits_meps_from_fill), and f's sink count: *exact = 1 when the surface checks out,
+ * and w is then the epsilon-fill's bit for bit; 0 leaves w undefined for the caller to
+ * flood. f is left as it was. */
+pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts *o, float *w,
+                             int *exact, uint64_t *nsinks, pg_error *err);
 /* pg_pits_stats_compute for an h that very likely has depressions (the input of a
  * removal): the same figures, without first searching for the case of none, which
  * the fills then show at their own cost. */

@@ -103,17 +103,20 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
     return PG_OK;
 }
 
+static void sink_if_open(uint8_t *st, uint64_t i, uint64_t *count) {
+    if (st[i] == PITS_OPEN) st[i] = PITS_SINK, (*count)++; /* a corner met twice counts once */
+}
+
 /* With open edges, the border cells that are neither no-data nor sinks already become
  * sinks: a pass over the perimeter only, so the pass over every cell needs no division
  * to find its row and column. */
 static uint64_t mark_border(const pg_pits_topo *t, uint8_t *st) {
     uint64_t count = 0;
     const uint64_t w = t->w, h = t->h;
+    for (uint64_t x = 0; x < w; x++)
+        sink_if_open(st, x, &count), sink_if_open(st, (h - 1) * w + x, &count);
     for (uint64_t y = 0; y < h; y++)
-        for (uint64_t x = 0; x < w; x += (y == 0 || y == h - 1 || w == 1) ? 1 : w - 1) {
-            uint8_t *c = &st[y * w + x];
-            if (*c == PITS_OPEN) *c = PITS_SINK, count++;
-        }
+        sink_if_open(st, y * w, &count), sink_if_open(st, y * w + w - 1, &count);
     return count;
 }
 

@@ -100,30 +100,36 @@ static pg_status fill_copy(const pg_pits_topo *t, const float *h, const pg_pits_
     return PG_OK;
 }
 
-/* The epsilon-surface of h into *efill, from its minimal fill f (not changed) when
- * that checks out (pits_meps_from_fill: a breadth-first search over f's flats, checked
- * against the surface's defining equation, so the result is the epsilon-fill's bit for
- * bit), else from its own flood of h. */
-static pg_status eps_from_fill(const pg_pits_topo *t, const float *h, float *f,
-                               const pg_pits_opts *o, float **efill, pg_error *err) {
+pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts *o, float *w,
+                             int *exact, uint64_t *nsinks, pg_error *err) {
     pg_pits_opts fo = *o;
     fo.method = PG_PITS_FILL;
     fo.epsilon = 0;
-    float *w = malloc(t->ncells * sizeof *w);
-    if (!w) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     uint8_t *st = NULL;
-    uint64_t nsinks = 0;
-    pg_status s = pits_begin(t, f, &fo, &st, NULL, &nsinks, err); /* no-data: -inf for now */
-    if (s) return free(w), s;
-    int exact = pits_meps_from_fill(t, f, st, w) == 0;
+    *exact = 0;
+    pg_status s = pits_begin(t, f, &fo, &st, NULL, nsinks, err); /* no-data: -inf for now */
+    if (s) return s;
+    *exact = pits_meps_from_fill(t, f, st, w) == 0;
     pits_end(t, f, &fo, st);
     free(st);
-    if (exact) {
+    return PG_OK;
+}
+
+/* The epsilon-surface of h into *efill: from its minimal fill f (not changed) when that
+ * checks out (pits_eps_from_fill), else from its own flood of h. */
+static pg_status eps_surface(const pg_pits_topo *t, const float *h, float *f, const pg_pits_opts *o,
+                             float **efill, pg_error *err) {
+    float *w = malloc(t->ncells * sizeof *w);
+    if (!w) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
+    int exact = 0;
+    uint64_t nsinks = 0;
+    pg_status s = pits_eps_from_fill(t, f, o, w, &exact, &nsinks, err);
+    if (!s && exact) {
         *efill = w;
         return PG_OK;
     }
     free(w);
-    return fill_copy(t, h, o, 1, efill, NULL, err);
+    return s ? s : fill_copy(t, h, o, 1, efill, NULL, err);
 }
 
 /* The minimal fill, then the epsilon-fill from it. One after the other: the plain fill
@@ -132,7 +138,7 @@ static pg_status eps_from_fill(const pg_pits_topo *t, const float *h, float *f,
 static pg_status both_fills(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                             float **fill, float **efill, uint64_t *nsinks, pg_error *err) {
     pg_status s = fill_copy(t, h, o, 0, fill, nsinks, err);
-    if (!s) s = eps_from_fill(t, h, *fill, o, efill, err);
+    if (!s) s = eps_surface(t, h, *fill, o, efill, err);
     if (s) {
         free(*fill);
         *fill = *efill = NULL;
