@@ -115,6 +115,42 @@ static void test_prepare_threads(void **state) {
     pg_synth_exemplar_free(e[1]);
 }
 
+/* Fewer appearance components than stored: the rest of every vector is 0, whatever the
+ * scratch the caller hands in holds (the preparation reuses one for every level's float
+ * vectors and for the k-coherence distances). Filled with large values here, they would
+ * also set the quantization scale if the unused components were read. */
+static void test_pca_few_dims(void **state) {
+    (void)state;
+    enum { SIZE = 32, NF = 2, DIMS = 4 };
+    pg_synth_faces f = {NF, SIZE, 8, SIZE + 16, false, NULL};
+    size_t nf = (size_t)NF * f.ext * f.ext * PG_SYNTH_CH, n = (size_t)NF * SIZE * SIZE;
+    f.px = malloc(nf * sizeof(float));
+    float *vals = malloc(n * PG_SYNTH_MAX_DIMS * sizeof(float));
+    pg_synth_exemplar *e = pg_synth_exemplar_alloc(NF, SIZE, 2, DIMS, 2);
+    assert_true(f.px && vals && e);
+    for (size_t i = 0; i < nf; i++)
+        f.px[i] = (float)((i * 7919 + 13) % 2001) / 10.0f - 100.0f;
+    e->lab_height_scale = 1;
+    pg_error err = {0};
+    for (int s = 0; s < 2; s++) {
+        for (size_t i = 0; i < n * PG_SYNTH_MAX_DIMS; i++)
+            vals[i] = 1e6f * (float)(i % 7);
+        assert_int_equal(pg_appearance_pca_level(&f, s, e, vals, &err), PG_OK);
+        int16_t big = 0;
+        for (size_t t = 0; t < n; t++)
+            for (int c = 0; c < PG_SYNTH_MAX_DIMS; c++) {
+                int16_t v = e->app[s][t * PG_SYNTH_MAX_DIMS + c];
+                if (c >= DIMS && v != 0)
+                    fail_msg("level %d, texel %zu, component %d: %d, not 0", s, t, c, v);
+                if (c < DIMS && abs(v) > big) big = (int16_t)abs(v);
+            }
+        assert_int_equal(big, 32000); /* the largest used component sets the scale */
+    }
+    pg_synth_exemplar_free(e);
+    free(vals);
+    free(f.px);
+}
+
 /* ---- appearance vectors from images ---- */
 
 /* Faces struct (no gutter, clamped reads) holding Lab + weighted height of `count`
@@ -316,10 +352,10 @@ static void test_coherent_patches(void **state) {
 }
 
 /* The preparation projects texels in batches (one per vector lane): on the real basis of every
- * level, 21 raw vectors (two batches and a tail) give the same bits as one at a time. */
+ * level, 37 raw vectors (two batches of 16 and a tail) give the same bits as one at a time. */
 static void test_project_batches(void **state) {
     (void)state;
-    enum { NV = 21 };
+    enum { NV = 37 };
     static float raw[NV][PG_SYNTH_RAW], batch[NV * PG_SYNTH_MAX_DIMS], one[PG_SYNTH_MAX_DIMS];
     for (int s = 0; s < ex->levels; s++) {
         for (int t = 0; t < NV; t++)
@@ -337,6 +373,42 @@ static void test_project_batches(void **state) {
     }
 }
 
+/* The preparation gathers and projects whole rows straight from the faces where no read
+ * clamps: on faces with a gutter, at every level, a face's first row, a run of two batches
+ * and a tail in the middle, and a batch that ends a face's last row (its reads reach into
+ * the gutter) give the same bits as gathering and projecting each texel alone. */
+static void test_project_span(void **state) {
+    (void)state;
+    enum { SIZE = 64, NF = 2 };
+    const int gutter = 4 << (ex->levels - 1);
+    pg_synth_faces f = {NF, SIZE, gutter, SIZE + 2 * gutter, false, NULL};
+    size_t nf = (size_t)NF * f.ext * f.ext * PG_SYNTH_CH;
+    f.px = malloc(nf * sizeof(float));
+    assert_non_null(f.px);
+    for (size_t i = 0; i < nf; i++) /* Lab-like values, both signs */
+        f.px[i] = (float)((i * 7919 + 13) % 2001) / 10.0f - 100.0f;
+    /* face, y, first x, count */
+    static const int rows[][4] = {{0, 0, 0, SIZE}, {1, 17, 5, 37}, {1, SIZE - 1, SIZE - 16, 16}};
+    float span[SIZE * PG_SYNTH_MAX_DIMS], one[PG_SYNTH_MAX_DIMS], raw[PG_SYNTH_RAW];
+    for (int s = 0; s < ex->levels; s++)
+        for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+            const int face = rows[r][0], y = rows[r][1], x = rows[r][2], n = rows[r][3];
+            memset(span, 0, sizeof span);
+            pg_appearance_project_span(&f, ex, s, face, x, y, n, span);
+            for (int t = 0; t < n; t++) {
+                pg_appearance_gather(&f, face, x + t, y, 1 << s, raw);
+                pg_appearance_project(ex, s, raw, one);
+                for (int k = 0; k < ex->dims; k++)
+                    if (memcmp(&one[k], &span[(size_t)t * PG_SYNTH_MAX_DIMS + k], sizeof(float)))
+                        fail_msg("level %d, face %d, texel (%d, %d), component %d: row %a, "
+                                 "alone %a",
+                                 s, face, x + t, y, k, span[(size_t)t * PG_SYNTH_MAX_DIMS + k],
+                                 one[k]);
+            }
+        }
+    free(f.px);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_neighbourhood_fidelity),
@@ -345,6 +417,8 @@ int main(void) {
         cmocka_unit_test(test_cube_threads_and_tiles),
         cmocka_unit_test(test_prepare_threads),
         cmocka_unit_test(test_project_batches),
+        cmocka_unit_test(test_project_span),
+        cmocka_unit_test(test_pca_few_dims),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

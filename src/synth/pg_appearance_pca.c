@@ -224,30 +224,31 @@ static int principal_axes(double *cov, const float *e, pg_synth_exemplar *ex, in
     return 0;
 }
 
-#define PROJECT_BATCH 8
+#define PROJECT_BATCH 16
 
 #if defined(__GNUC__) || defined(__clang__)
 /* pg_appearance_project on PROJECT_BATCH texels at once, one texel per vector lane:
  * each lane does the same IEEE operations in the same order as pg_appearance_project
  * (4 partial sums over i stepping by 4, then (l0 + l1) + (l2 + l3); GCC builds ISO C
  * without contracting into fused multiply-adds, and a compiler that contracts does so
- * in both forms alike), hence the same bits, with
- * half the instructions of its 4-lane form in the AVX2 clone. */
+ * in both forms alike), hence the same bits. One AVX-512 register holds the batch; the
+ * AVX2 clone takes two, the baseline four. */
 typedef float batch_v __attribute__((vector_size(4 * PROJECT_BATCH)));
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
+#define PROJECT_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define PROJECT_CLONES
 #endif
-static void
-project_batch(const pg_synth_exemplar *ex, int scale, const float (*raw)[PG_SYNTH_RAW],
-              float *out) {
+/* forced inline into the clones, so that each is compiled for its own target */
+#define PROJECT_HOT static inline __attribute__((always_inline))
+
+PROJECT_HOT void project_lanes(const pg_synth_exemplar *ex, int scale,
+                               const batch_v X[PG_SYNTH_RAW], float *out) {
     const float *mean = ex->pca_mean[scale];
-    batch_v X[PG_SYNTH_RAW], C[PG_SYNTH_RAW];
-    for (int i = 0; i < PG_SYNTH_RAW; i++) {
-        for (int t = 0; t < PROJECT_BATCH; t++)
-            X[i][t] = raw[t][i];
+    batch_v C[PG_SYNTH_RAW];
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
         C[i] = X[i] - mean[i];
-    }
     for (int c = 0; c < ex->dims; c++) {
         const float *b = ex->pca_basis[scale][c];
         const batch_v *x = c == 0 ? X : C; /* component 1 is not centred */
@@ -263,6 +264,58 @@ project_batch(const pg_synth_exemplar *ex, int scale, const float (*raw)[PG_SYNT
             out[(size_t)t * PG_SYNTH_MAX_DIMS + c] = r[t];
     }
 }
+
+PROJECT_CLONES static void project_batch(const pg_synth_exemplar *ex, int scale,
+                                         const float (*raw)[PG_SYNTH_RAW], float *out) {
+    batch_v X[PG_SYNTH_RAW];
+    for (int i = 0; i < PG_SYNTH_RAW; i++)
+        for (int t = 0; t < PROJECT_BATCH; t++)
+            X[i][t] = raw[t][i];
+    project_lanes(ex, scale, X, out);
+}
+#endif
+
+#if defined(__GNUC__) && !defined(__clang__)
+typedef int32_t batch_i __attribute__((vector_size(4 * PROJECT_BATCH)));
+
+/* The raw vectors of the PROJECT_BATCH texels (x.., y) straight from the faces, lane t
+ * for texel x + t: each of the 25 samples is a run of PROJECT_BATCH texels of 4
+ * interleaved channels (64 floats), split into one vector per channel by shuffles and
+ * weighted as pg_appearance_gather weights them (the same products: only data moves).
+ * Precondition: every read is inside the stored face with its gutter (no clamping). */
+PROJECT_HOT void load_rows(const pg_synth_faces *f, int face, int x, int y, int h,
+                           batch_v X[PG_SYNTH_RAW]) {
+    const batch_i pick[PG_SYNTH_CH] = {
+        {0, 4, 8, 12, 16, 20, 24, 28, 0, 4, 8, 12, 16, 20, 24, 28},
+        {1, 5, 9, 13, 17, 21, 25, 29, 1, 5, 9, 13, 17, 21, 25, 29},
+        {2, 6, 10, 14, 18, 22, 26, 30, 2, 6, 10, 14, 18, 22, 26, 30},
+        {3, 7, 11, 15, 19, 23, 27, 31, 3, 7, 11, 15, 19, 23, 27, 31}};
+    const batch_i halves = {0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23};
+    const float *g = pg_appearance_weights();
+    for (int j = -2; j <= 2; j++)
+        for (int i = -2; i <= 2; i++) {
+            const float *p =
+                f->px + (((size_t)face * f->ext + (size_t)(y + j * h + f->gutter)) * f->ext +
+                         (size_t)(x + i * h + f->gutter)) *
+                            PG_SYNTH_CH;
+            batch_v a[4];
+            memcpy(a, p, sizeof a);
+            const int k = (j + 2) * 5 + (i + 2);
+            for (int c = 0; c < PG_SYNTH_CH; c++) {
+                batch_v lo = __builtin_shuffle(a[0], a[1], pick[c]);
+                batch_v hi = __builtin_shuffle(a[2], a[3], pick[c]);
+                X[k * PG_SYNTH_CH + c] = g[k] * __builtin_shuffle(lo, hi, halves);
+            }
+        }
+}
+
+PROJECT_CLONES static void project_rows(const pg_synth_faces *f, const pg_synth_exemplar *ex,
+                                        int scale, int face, int x, int y, float *out) {
+    batch_v X[PG_SYNTH_RAW];
+    load_rows(f, face, x, y, 1 << scale, X);
+    project_lanes(ex, scale, X, out);
+}
+#define HAVE_PROJECT_ROWS 1
 #endif
 
 /* Project n raw vectors: PROJECT_BATCH at a time where the compiler has vector types,
@@ -278,37 +331,62 @@ void pg_appearance_project_n(const pg_synth_exemplar *ex, int scale,
         pg_appearance_project(ex, scale, raw[t], comps + (size_t)t * PG_SYNTH_MAX_DIMS);
 }
 
-static void project_all(const pg_synth_faces *f, pg_synth_exemplar *ex, int scale, float *out) {
-    const int E = f->size, h = 1 << scale;
-#pragma omp parallel for schedule(dynamic, 4) collapse(2)
-    for (int face = 0; face < f->nfaces; face++)
-        for (int y = 0; y < E; y++) {
-            float raw[PROJECT_BATCH][PG_SYNTH_RAW];
-            for (int x = 0; x < E; x += PROJECT_BATCH) {
-                int n = E - x < PROJECT_BATCH ? E - x : PROJECT_BATCH;
-                for (int t = 0; t < n; t++)
-                    pg_appearance_gather(f, face, x + t, y, h, raw[t]);
-                pg_appearance_project_n(ex, scale, (const float(*)[PG_SYNTH_RAW])raw, n,
-                                        out + (((size_t)face * E + y) * E + x) * PG_SYNTH_MAX_DIMS);
-            }
-        }
+void pg_appearance_project_span(const pg_synth_faces *f, const pg_synth_exemplar *ex, int scale,
+                                int face, int x, int y, int n, float *comps) {
+    const int h = 1 << scale, reach = 2 * h;
+    int t = 0;
+#ifdef HAVE_PROJECT_ROWS
+    /* without clamping: rows y +- 2h and columns x - 2h .. x + n - 1 + 2h are stored */
+    const int lo = -f->gutter, hi = f->size + f->gutter;
+    if (!f->torus && y - reach >= lo && y + reach < hi && x - reach >= lo)
+        for (; t + PROJECT_BATCH <= n && x + t + PROJECT_BATCH - 1 + reach < hi; t += PROJECT_BATCH)
+            project_rows(f, ex, scale, face, x + t, y, comps + (size_t)t * PG_SYNTH_MAX_DIMS);
+#endif
+    float raw[PROJECT_BATCH][PG_SYNTH_RAW];
+    while (t < n) {
+        int m = n - t < PROJECT_BATCH ? n - t : PROJECT_BATCH;
+        for (int u = 0; u < m; u++)
+            pg_appearance_gather(f, face, x + t + u, y, h, raw[u]);
+        pg_appearance_project_n(ex, scale, (const float(*)[PG_SYNTH_RAW])raw, m,
+                                comps + (size_t)t * PG_SYNTH_MAX_DIMS);
+        t += m;
+    }
 }
 
+static void project_all(const pg_synth_faces *f, pg_synth_exemplar *ex, int scale, float *out) {
+    const int E = f->size;
+#pragma omp parallel for schedule(dynamic, 4) collapse(2)
+    for (int face = 0; face < f->nfaces; face++)
+        for (int y = 0; y < E; y++)
+            pg_appearance_project_span(f, ex, scale, face, 0, y, E,
+                                       out + ((size_t)face * E + y) * E * PG_SYNTH_MAX_DIMS);
+}
+
+/* The float vectors to int16 at one scale per level, so that the largest |component|
+ * becomes 32000. Components from dims on were never written into vals (a scratch reused
+ * across levels) and are stored as 0. The maximum is exact in any order, so the threads
+ * change no bit; they share the first touch of the level's fresh pages. */
 static void quantize(pg_synth_exemplar *ex, int scale, const float *vals, size_t n) {
+    const int dims = ex->dims;
     float mx = 1e-12f;
-    for (size_t i = 0; i < n * PG_SYNTH_MAX_DIMS; i++) {
-        float a = fabsf(vals[i]);
-        if (a > mx) mx = a;
-    }
+#pragma omp parallel for reduction(max : mx) schedule(static)
+    for (size_t t = 0; t < n; t++)
+        for (int c = 0; c < dims; c++) {
+            float a = fabsf(vals[t * PG_SYNTH_MAX_DIMS + c]);
+            if (a > mx) mx = a;
+        }
     float q = 32000.0f / mx;
     ex->app_scale[scale] = 1.0f / q;
     int16_t *dst = ex->app[scale];
-    for (size_t i = 0; i < n * PG_SYNTH_MAX_DIMS; i++)
-        dst[i] = (int16_t)lrintf(vals[i] * q);
+#pragma omp parallel for schedule(static)
+    for (size_t t = 0; t < n; t++)
+        for (int c = 0; c < PG_SYNTH_MAX_DIMS; c++)
+            dst[t * PG_SYNTH_MAX_DIMS + c] =
+                c < dims ? (int16_t)lrintf(vals[t * PG_SYNTH_MAX_DIMS + c] * q) : 0;
 }
 
 pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_exemplar *ex,
-                                  pg_error *err) {
+                                  float *vals, pg_error *err) {
     const float *g = pg_appearance_weights();
     float *e = ex->pca_basis[scale][0];
     double gn = 0;
@@ -344,11 +422,7 @@ pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_e
     free(mean);
     if (bad) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
 
-    size_t n = (size_t)f->nfaces * f->size * f->size;
-    float *vals = calloc(n * PG_SYNTH_MAX_DIMS, sizeof(float));
-    if (!vals) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
     project_all(f, ex, scale, vals);
-    quantize(ex, scale, vals, n);
-    free(vals);
+    quantize(ex, scale, vals, (size_t)f->nfaces * f->size * f->size);
     return PG_OK;
 }

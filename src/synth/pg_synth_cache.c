@@ -47,7 +47,7 @@ static size_t ntexels(const pg_synth_exemplar *ex) {
 
 /* Large random-access tables live on transparent huge pages where the kernel allows
  * (madvise mode): synthesis reads them at random and is otherwise bound by TLB misses. */
-static void *alloc_table(size_t bytes, bool zero) {
+static void *alloc_table(size_t bytes) {
     const size_t huge = (size_t)2 << 20;
     size_t rounded = (bytes + huge - 1) / huge * huge;
     void *p = aligned_alloc(huge, rounded);
@@ -55,7 +55,6 @@ static void *alloc_table(size_t bytes, bool zero) {
 #ifdef MADV_HUGEPAGE
     madvise(p, rounded, MADV_HUGEPAGE);
 #endif
-    if (zero) memset(p, 0, bytes);
     return p;
 }
 
@@ -80,8 +79,10 @@ pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int
     ex->height = malloc(n * sizeof(float));
     int ok = ex->albedo && ex->height;
     for (int s = 0; s < levels && ok; s++) {
-        ex->app[s] = alloc_table(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t), true);
-        ex->kcoh[s] = k > 1 ? alloc_table(n * (k - 1) * sizeof(uint32_t), true) : NULL;
+        /* not cleared: the preparation writes every entry, in parallel, so the threads
+         * share the kernel's zeroing of the fresh pages instead of one memset */
+        ex->app[s] = alloc_table(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
+        ex->kcoh[s] = k > 1 ? alloc_table(n * (k - 1) * sizeof(uint32_t)) : NULL;
         ok = ex->app[s] && (k <= 1 || ex->kcoh[s]);
     }
     if (!ok) {
@@ -244,8 +245,8 @@ pg_status pg_synth_copy_level(const pg_synth_exemplar *ex, int scale, int16_t **
     if (!ex->map || scale < 0 || scale >= ex->levels) return PG_OK;
     size_t n = ntexels(ex), ab = n * PG_SYNTH_MAX_DIMS * sizeof(int16_t),
            kb = ex->k > 1 ? n * (size_t)(ex->k - 1) * sizeof(uint32_t) : 0;
-    *app = alloc_table(ab, false);
-    *kcoh = kb ? alloc_table(kb, false) : NULL;
+    *app = alloc_table(ab);
+    *kcoh = kb ? alloc_table(kb) : NULL;
     if (!*app || (kb && !*kcoh)) {
         free(*app), free(*kcoh);
         *app = NULL, *kcoh = NULL;

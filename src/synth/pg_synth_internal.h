@@ -59,17 +59,25 @@ void pg_gaussian_stack_next(pg_synth_faces *f, int scale, float *tmp);
  * of a face at spacing h; the weights; and the per-level analysis. */
 void pg_appearance_gather(const pg_synth_faces *f, int face, int x, int y, int h, float *raw);
 const float *pg_appearance_weights(void);
+/* vals: the caller's scratch of nfaces * size^2 * PG_SYNTH_MAX_DIMS floats (one buffer
+ * for every level: fresh pages cost a fault and the kernel's zeroing each). */
 pg_status pg_appearance_pca_level(const pg_synth_faces *f, int scale, pg_synth_exemplar *ex,
-                                  pg_error *err);
+                                  float *vals, pg_error *err);
 /* Project one raw vector with the exemplar's basis at scale s into float comps[dims]. */
 void pg_appearance_project(const pg_synth_exemplar *ex, int scale, const float *raw, float *comps);
 /* The same on n raw vectors at once (comps: n x PG_SYNTH_MAX_DIMS), bit for bit. */
 void pg_appearance_project_n(const pg_synth_exemplar *ex, int scale,
                              const float (*raw)[PG_SYNTH_RAW], int n, float *comps);
+/* Gather and project the n texels (x.., y) of a face at scale s into comps
+ * (n x PG_SYNTH_MAX_DIMS): the same bits as pg_appearance_gather and
+ * pg_appearance_project on each, read straight from the rows where no read clamps. */
+void pg_appearance_project_span(const pg_synth_faces *f, const pg_synth_exemplar *ex, int scale,
+                                int face, int x, int y, int n, float *comps);
 
-/* pg_kcoherence_patchmatch.c: fill ex->kcoh[scale]. */
+/* pg_kcoherence_patchmatch.c: fill ex->kcoh[scale]. dist: the caller's scratch of
+ * nfaces * size^2 * (k - 1) int32 (may be the appearance's, once that is quantized). */
 pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, int iters,
-                              double min_separation, pg_error *err);
+                              double min_separation, int32_t *dist, pg_error *err);
 
 /* pg_synth_cache.c */
 uint64_t pg_synth_hash_bytes(uint64_t h, const void *data, size_t n);

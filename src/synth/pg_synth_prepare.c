@@ -128,22 +128,31 @@ static double exemplar_bytes(const pg_synth_exemplar *ex) {
 static pg_status analyse(pg_synth_faces *faces, const pg_synth_exemplar_params *p,
                          pg_synth_exemplar *ex, pg_synth_prep_info *info, pg_error *err) {
     float *tmp = malloc((size_t)faces->nfaces * faces->ext * faces->ext * PG_SYNTH_CH * 4);
-    if (!tmp) return pg_error_set(err, PG_ERR_NOMEM, "exemplar: out of memory for the stack");
+    /* one scratch for every level's appearance vectors, then its k-coherence distances */
+    float *scratch =
+        malloc((size_t)faces->nfaces * faces->size * faces->size * PG_SYNTH_MAX_DIMS * 4);
+    if (!tmp || !scratch) {
+        free(tmp);
+        free(scratch);
+        return pg_error_set(err, PG_ERR_NOMEM, "exemplar: out of memory for the stack");
+    }
     pg_status st = PG_OK;
     for (int s = 0; s < ex->levels && !st; s++) {
         double t0 = pg_synth_now();
         if (s > 0) pg_gaussian_stack_next(faces, s, tmp);
         double t1 = pg_synth_now();
-        st = pg_appearance_pca_level(faces, s, ex, err);
+        st = pg_appearance_pca_level(faces, s, ex, scratch, err);
         double t2 = pg_synth_now();
         if (!st)
-            st = pg_kcoherence_build(ex, s, p->seed, p->patchmatch_iters, p->min_separation, err);
+            st = pg_kcoherence_build(ex, s, p->seed, p->patchmatch_iters, p->min_separation,
+                                     (int32_t *)scratch, err);
         double t3 = pg_synth_now();
         info->stage_seconds[1] += t1 - t0;
         info->stage_seconds[2] += t2 - t1;
         info->stage_seconds[3] += t3 - t2;
     }
     free(tmp);
+    free(scratch);
     return st;
 }
 
