@@ -131,26 +131,35 @@ static void init_face(pm_ctx *c, int face) {
         }
 }
 
-/* The random search's candidate in the window of radius r around b. */
-static uint32_t window_coord(const pm_ctx *c, int face, int x, int y, int r, int salt, uint32_t b) {
-    uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
-    int du = (int)(h & 0xffff) % (2 * r + 1) - r, dv = (int)(h >> 16) % (2 * r + 1) - r;
-    return pg_synth_offset(c->ex, b, du, dv);
-}
-
-/* The most candidates search_coords gives: one window per factor 4 from E/2 down to 1
- * (log4(E/2) + 1, 8 at E = 8192) and one anywhere; 16 holds faces up to 2^30. */
+/* The most windows a search has: one per factor 4 from E/2 down to 1 (log4(E/2) + 1,
+ * 8 at E = 8192); 16 holds faces up to 2^30. */
 #define SEARCH_MAX 16
 
-/* The random search's candidates of texel (x, y) around a fixed best b: windows
- * shrinking 4x from E/2, then one anywhere (into out; returns how many). */
-static int search_coords(const pm_ctx *c, int face, int x, int y, int it, uint32_t b,
-                         uint32_t *out) {
-    int n = 0, salt = 1000 + it * 100;
-    for (int r = c->E / 2; r >= 1; r /= 4, salt += 2)
-        out[n++] = window_coord(c, face, x, y, r, salt, b);
-    out[n++] = random_coord(c, face, x, y, salt);
-    return n;
+/* The random search of one visit, drawn before it: the offsets of its windows (shrinking
+ * 4x from E/2, each applied to the best as it stands when its turn comes) and its one
+ * candidate anywhere. The draws are hashes of the texel, not of the best, so the plan
+ * serves both the prefetch ahead of the visit and the visit itself. */
+typedef struct search_plan {
+    int n;
+    int du[SEARCH_MAX], dv[SEARCH_MAX];
+    uint32_t anywhere;
+} search_plan;
+
+static void plan_search(const pm_ctx *c, int face, int x, int y, int it, search_plan *p) {
+    int salt = 1000 + it * 100;
+    p->n = 0;
+    for (int r = c->E / 2; r >= 1; r /= 4, salt += 2) {
+        uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
+        p->du[p->n] = (int)(h & 0xffff) % (2 * r + 1) - r;
+        p->dv[p->n++] = (int)(h >> 16) % (2 * r + 1) - r;
+    }
+    p->anywhere = random_coord(c, face, x, y, salt);
+}
+
+/* Prefetch the search's candidates around b. */
+static void prefetch_search(const pm_ctx *c, const search_plan *p, uint32_t b) {
+    for (int i = 0; i < p->n; i++)
+        prefetch_app(c, pg_synth_offset(c->ex, b, p->du[i], p->dv[i]));
 }
 
 /* The entries of (x, y)'s visited lattice neighbour n (0: along x, 1: along y) in the scan
@@ -168,7 +177,7 @@ static const uint32_t *lattice_neighbour(const pm_ctx *c, int face, int x, int y
 /* Prefetch what visiting (x, y) will read: its neighbours' entries moved to it, and
  * its random search around its best as it stands (the propagation may still improve
  * that best; then those prefetches are wasted, never wrong). */
-static void prefetch_visit(const pm_ctx *c, int face, int x, int y, int it, int dir) {
+static void prefetch_visit(const pm_ctx *c, int face, int x, int y, int dir, const search_plan *p) {
     const int E = c->E;
     for (int n = 0; n < 2; n++) {
         int nx, ny;
@@ -176,18 +185,16 @@ static void prefetch_visit(const pm_ctx *c, int face, int x, int y, int it, int 
         for (int i = 0; ne && i < c->kk; i++)
             prefetch_app(c, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
     }
-    uint32_t q[SEARCH_MAX];
-    int k = search_coords(c, face, x, y, it, c->table[(((size_t)face * E + y) * E + x) * c->kk], q);
-    for (int i = 0; i < k; i++)
-        prefetch_app(c, q[i]);
+    prefetch_search(c, p, c->table[(((size_t)face * E + y) * E + x) * c->kk]);
+    prefetch_app(c, p->anywhere);
 }
 
 /* One PatchMatch step at lattice texel (x, y): propagation from its two visited lattice
  * neighbours, then the random search around its best, each candidate offered in turn. */
-static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
+static void visit(pm_ctx *c, int face, int x, int y, int dir, const search_plan *p) {
     const int E = c->E;
     size_t t = ((size_t)face * E + y) * E + x;
-    uint32_t self = pg_synth_pack(face, x, y);
+    uint32_t self = pg_synth_pack(face, x, y), best = c->table[t * c->kk];
     /* propagation from the visited lattice neighbours (x - dir m, y), (x, y - dir m) */
     for (int n = 0; n < 2; n++) {
         int nx, ny;
@@ -197,31 +204,40 @@ static void visit(pm_ctx *c, int face, int x, int y, int it, int dir) {
             offer(c, self, t, pg_synth_offset(c->ex, ne[i], x - nx, y - ny));
         }
     }
+    /* When the propagation moved the best, the search prefetched ahead of the visit
+     * was around the old one: fetch the windows around the new best all at once, so
+     * that their misses overlap instead of following one another. */
+    if (c->table[t * c->kk] != best) prefetch_search(c, p, c->table[t * c->kk]);
     /* random search around the current best (re-read after each offer), windows
      * shrinking 4x, then one anywhere */
-    int salt = 1000 + it * 100;
-    for (int r = E / 2; r >= 1; r /= 4, salt += 2)
-        offer(c, self, t, window_coord(c, face, x, y, r, salt, c->table[t * c->kk]));
-    offer(c, self, t, random_coord(c, face, x, y, salt));
+    for (int i = 0; i < p->n; i++)
+        offer(c, self, t, pg_synth_offset(c->ex, c->table[t * c->kk], p->du[i], p->dv[i]));
+    offer(c, self, t, p->anywhere);
 }
 
-/* Visit (x, y), then prefetch for the next lattice texel of the scan, (nx, ny), when it is
- * on the face. */
-static void visit_next(pm_ctx *c, int face, int x, int y, int it, int dir, int nx, int ny) {
-    visit(c, face, x, y, it, dir);
-    if (nx >= 0 && ny >= 0 && nx < c->E && ny < c->E) prefetch_visit(c, face, nx, ny, it, dir);
-}
-
+/* Visit the face's lattice texels in scan order (reversed on odd iterations), each
+ * prefetched while the one before it is visited. */
 static void scan_face(pm_ctx *c, int face, int it) {
-    const int E = c->E, m = c->m, last = E - m;
-    if (it % 2 == 0) {
-        for (int y = 0; y < E; y += m)
-            for (int x = 0; x < E; x += m)
-                visit_next(c, face, x, y, it, 1, x + m < E ? x + m : 0, x + m < E ? y : y + m);
-    } else {
-        for (int y = last; y >= 0; y -= m)
-            for (int x = last; x >= 0; x -= m)
-                visit_next(c, face, x, y, it, -1, x >= m ? x - m : last, x >= m ? y : y - m);
+    const int E = c->E, m = c->m, last = E - m, dir = it % 2 == 0 ? 1 : -1;
+    int x = dir > 0 ? 0 : last, y = x;
+    search_plan plan[2];
+    plan_search(c, face, x, y, it, &plan[0]);
+    for (int i = 0;; i ^= 1) {
+        int nx, ny; /* the next lattice texel of the scan */
+        if (dir > 0) {
+            nx = x + m < E ? x + m : 0;
+            ny = x + m < E ? y : y + m;
+        } else {
+            nx = x >= m ? x - m : last;
+            ny = x >= m ? y : y - m;
+        }
+        const int more = ny >= 0 && ny < E;
+        if (more) plan_search(c, face, nx, ny, it, &plan[i ^ 1]);
+        visit(c, face, x, y, dir, &plan[i]);
+        if (!more) break;
+        prefetch_visit(c, face, nx, ny, dir, &plan[i ^ 1]);
+        x = nx;
+        y = ny;
     }
 }
 
