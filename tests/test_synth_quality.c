@@ -374,39 +374,46 @@ static void test_project_batches(void **state) {
 }
 
 /* The preparation gathers and projects whole rows straight from the faces where no read
- * clamps: on faces with a gutter, at every level, a face's first row, a run of two batches
- * and a tail in the middle, and a batch that ends a face's last row (its reads reach into
- * the gutter) give the same bits as gathering and projecting each texel alone. */
+ * clamps: at every level, a face's first row, a run of two batches and a tail in the
+ * middle, and a batch that ends a face's last row give the same bits as gathering and
+ * projecting each texel alone. With the preparation's gutter; with one of 4 texels, whose
+ * level 1 reads reach exactly the stored edge on every side (the rows path's bounds) and
+ * whose coarser levels clamp (the texel-by-texel path); and with one of 3, whose level 1
+ * reads would pass the edge by one texel (so must clamp). */
 static void test_project_span(void **state) {
     (void)state;
     enum { SIZE = 64, NF = 2 };
-    const int gutter = 4 << (ex->levels - 1);
-    pg_synth_faces f = {NF, SIZE, gutter, SIZE + 2 * gutter, false, NULL};
-    size_t nf = (size_t)NF * f.ext * f.ext * PG_SYNTH_CH;
-    f.px = malloc(nf * sizeof(float));
-    assert_non_null(f.px);
-    for (size_t i = 0; i < nf; i++) /* Lab-like values, both signs */
-        f.px[i] = (float)((i * 7919 + 13) % 2001) / 10.0f - 100.0f;
+    const int gutters[3] = {4 << (ex->levels - 1), 4, 3};
     /* face, y, first x, count */
     static const int rows[][4] = {{0, 0, 0, SIZE}, {1, 17, 5, 37}, {1, SIZE - 1, SIZE - 16, 16}};
     float span[SIZE * PG_SYNTH_MAX_DIMS], one[PG_SYNTH_MAX_DIMS], raw[PG_SYNTH_RAW];
-    for (int s = 0; s < ex->levels; s++)
-        for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
-            const int face = rows[r][0], y = rows[r][1], x = rows[r][2], n = rows[r][3];
-            memset(span, 0, sizeof span);
-            pg_appearance_project_span(&f, ex, s, face, x, y, n, span);
-            for (int t = 0; t < n; t++) {
-                pg_appearance_gather(&f, face, x + t, y, 1 << s, raw);
-                pg_appearance_project(ex, s, raw, one);
-                for (int k = 0; k < ex->dims; k++)
-                    if (memcmp(&one[k], &span[(size_t)t * PG_SYNTH_MAX_DIMS + k], sizeof(float)))
-                        fail_msg("level %d, face %d, texel (%d, %d), component %d: row %a, "
-                                 "alone %a",
-                                 s, face, x + t, y, k, span[(size_t)t * PG_SYNTH_MAX_DIMS + k],
-                                 one[k]);
+    for (int gi = 0; gi < 3; gi++) {
+        const int gutter = gutters[gi];
+        pg_synth_faces f = {NF, SIZE, gutter, SIZE + 2 * gutter, false, NULL};
+        size_t nf = (size_t)NF * f.ext * f.ext * PG_SYNTH_CH;
+        f.px = malloc(nf * sizeof(float));
+        assert_non_null(f.px);
+        for (size_t i = 0; i < nf; i++) /* Lab-like values, both signs */
+            f.px[i] = (float)((i * 7919 + 13) % 2001) / 10.0f - 100.0f;
+        for (int s = 0; s < ex->levels; s++)
+            for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+                const int face = rows[r][0], y = rows[r][1], x = rows[r][2], n = rows[r][3];
+                memset(span, 0, sizeof span);
+                pg_appearance_project_span(&f, ex, s, face, x, y, n, span);
+                for (int t = 0; t < n; t++) {
+                    pg_appearance_gather(&f, face, x + t, y, 1 << s, raw);
+                    pg_appearance_project(ex, s, raw, one);
+                    for (int k = 0; k < ex->dims; k++)
+                        if (memcmp(&one[k], &span[(size_t)t * PG_SYNTH_MAX_DIMS + k],
+                                   sizeof(float)))
+                            fail_msg("gutter %d, level %d, face %d, texel (%d, %d), component "
+                                     "%d: row %a, alone %a",
+                                     gutter, s, face, x + t, y, k,
+                                     span[(size_t)t * PG_SYNTH_MAX_DIMS + k], one[k]);
+                }
             }
-        }
-    free(f.px);
+        free(f.px);
+    }
 }
 
 int main(void) {

@@ -337,7 +337,7 @@ void pg_appearance_project_span(const pg_synth_faces *f, const pg_synth_exemplar
     int t = 0;
 #ifdef HAVE_PROJECT_ROWS
     /* without clamping: rows y +- 2h and columns x - 2h .. x + n - 1 + 2h are stored */
-    const int lo = -f->gutter, hi = f->size + f->gutter;
+    const int lo = -f->gutter, hi = f->ext - f->gutter;
     if (!f->torus && y - reach >= lo && y + reach < hi && x - reach >= lo)
         for (; t + PROJECT_BATCH <= n && x + t + PROJECT_BATCH - 1 + reach < hi; t += PROJECT_BATCH)
             project_rows(f, ex, scale, face, x + t, y, comps + (size_t)t * PG_SYNTH_MAX_DIMS);

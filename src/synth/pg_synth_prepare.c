@@ -129,12 +129,13 @@ static pg_status analyse(pg_synth_faces *faces, const pg_synth_exemplar_params *
                          pg_synth_exemplar *ex, pg_synth_prep_info *info, pg_error *err) {
     float *tmp = malloc((size_t)faces->nfaces * faces->ext * faces->ext * PG_SYNTH_CH * 4);
     /* one scratch for every level's appearance vectors, then its k-coherence distances */
+    _Static_assert(PG_SYNTH_MAX_K - 1 <= PG_SYNTH_MAX_DIMS, "the distances fit the scratch");
     float *scratch =
         malloc((size_t)faces->nfaces * faces->size * faces->size * PG_SYNTH_MAX_DIMS * 4);
     if (!tmp || !scratch) {
         free(tmp);
         free(scratch);
-        return pg_error_set(err, PG_ERR_NOMEM, "exemplar: out of memory for the stack");
+        return pg_error_set(err, PG_ERR_NOMEM, "exemplar: out of memory for the stack and scratch");
     }
     pg_status st = PG_OK;
     for (int s = 0; s < ex->levels && !st; s++) {
