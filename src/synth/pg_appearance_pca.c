@@ -333,11 +333,11 @@ void pg_appearance_project_n(const pg_synth_exemplar *ex, int scale,
 
 void pg_appearance_project_span(const pg_synth_faces *f, const pg_synth_exemplar *ex, int scale,
                                 int face, int x, int y, int n, float *comps) {
-    const int h = 1 << scale, reach = 2 * h;
+    const int h = 1 << scale;
     int t = 0;
 #ifdef HAVE_PROJECT_ROWS
     /* without clamping: rows y +- 2h and columns x - 2h .. x + n - 1 + 2h are stored */
-    const int lo = -f->gutter, hi = f->ext - f->gutter;
+    const int reach = 2 * h, lo = -f->gutter, hi = f->ext - f->gutter;
     if (!f->torus && y - reach >= lo && y + reach < hi && x - reach >= lo)
         for (; t + PROJECT_BATCH <= n && x + t + PROJECT_BATCH - 1 + reach < hi; t += PROJECT_BATCH)
             project_rows(f, ex, scale, face, x + t, y, comps + (size_t)t * PG_SYNTH_MAX_DIMS);
