@@ -435,6 +435,9 @@ static void test_remove_counted(void **state) {
             o.method = VARIANTS[v].m;
             o.epsilon = VARIANTS[v].eps;
             o.descent = VARIANTS[v].descent;
+            /* the plain fill's counts take w from the serial fill, or from the tiled
+             * fill's flats afterwards (pits_meps_from_fill) */
+            o.tile_rows = o.method == PG_PITS_FILL && !o.epsilon && seed % 2 ? 7 : 0;
             memcpy(a, dem, sizeof(float) * n);
             memcpy(b, dem, sizeof(float) * n);
             pg_pits_result ra, rb;
@@ -459,6 +462,14 @@ static void test_remove_counted(void **state) {
     assert_true(with_depressions > 100);
 }
 
+/* A W x H grid whose sinks are the cells at or below sea_level (closed edges). */
+static void sea_grid(pg_pits_topo *t, pg_pits_opts *o, int w, int h, double sea_level) {
+    pg_pits_topo_grid(t, (uint32_t)w, (uint32_t)h, NULL);
+    pg_pits_opts_default(o);
+    o->has_sea_level = true;
+    o->sea_level = sea_level;
+}
+
 /* The counts take the epsilon-surface from the minimal fill's flats when the guess
  * checks out, and from a flood when it does not: here a flat B one ulp above flat A
  * drains through A, so B's surface must rise past A's ulps, not start at B's own
@@ -479,11 +490,8 @@ static void test_stats_eps_fallback(void **state) {
         dem[W + x] = s1;     /* flat B, draining through A */
     dem[W + 15] = s1 - 1.0f; /* the pit */
     pg_pits_topo t;
-    pg_pits_topo_grid(&t, W, H, NULL);
     pg_pits_opts o;
-    pg_pits_opts_default(&o);
-    o.has_sea_level = true;
-    o.sea_level = 0.5;
+    sea_grid(&t, &o, W, H, 0.5);
     /* the guess from the fill's flats is refused on this grid */
     float fill[W * H], w[W * H], eps[W * H];
     memcpy(fill, dem, sizeof fill);
@@ -507,6 +515,179 @@ static void test_stats_eps_fallback(void **state) {
     assert_true(st.depression_volume_m3 == (double)eps[W + 15] - (double)dem[W + 15]);
     assert_true(st.max_depth_m == (double)eps[W + 15] - (double)dem[W + 15]);
     assert_true(eps[W + 15] > eps[W + 10]); /* the pit's surface is above all of A's */
+    /* the counted fill's own guess is refused too, and the counts still agree */
+    int exact = 1;
+    memcpy(fill, dem, sizeof fill);
+    o.epsilon = false;
+    assert_int_equal(pits_priority_flood_barnes2014_eps(&t, fill, &o, NULL, w, &exact, NULL),
+                     PG_OK);
+    assert_int_equal(exact, 0);
+    pg_pits_stats before, after;
+    memcpy(fill, dem, sizeof fill);
+    assert_int_equal(pg_pits_remove_counted(&t, fill, &o, NULL, NULL, &before, &after, NULL),
+                     PG_OK);
+    assert_int_equal(before.depressions, 1);
+    assert_true(before.depression_volume_m3 == st.depression_volume_m3);
+    assert_int_equal(after.depressions, 0);
+}
+
+/* The epsilon-surface that the counted fill gives along with the fill
+ * (pits_priority_flood_barnes2014_eps): one ulp per step from the NEAREST exit of each
+ * flat, so all of a level's exits go before its flat cells. Checked bit for bit against
+ * the epsilon-fill on a corridor with an exit at each end (a flood from the first exit
+ * alone would put the far end 17 ulps up, not 1) and on grids of wide integer flats,
+ * where the guess must check out exactly when the same guess made afterwards
+ * (pits_meps_from_fill) does; the fill itself is the plain fill's. */
+static void check_fill_eps(const pg_pits_topo *t, const float *dem, pg_pits_opts o, size_t n,
+                           int *exact) {
+    float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
+    float *w = malloc(sizeof(float) * n), *e = malloc(sizeof(float) * n);
+    float *w2 = malloc(sizeof(float) * n);
+    o.method = PG_PITS_FILL;
+    o.epsilon = false;
+    memcpy(a, dem, sizeof(float) * n);
+    memcpy(b, dem, sizeof(float) * n);
+    assert_int_equal(pits_priority_flood_barnes2014(t, a, &o, NULL, NULL), PG_OK);
+    assert_int_equal(pits_priority_flood_barnes2014_eps(t, b, &o, NULL, w, exact, NULL), PG_OK);
+    assert_memory_equal(a, b, sizeof(float) * n);
+    o.epsilon = true;
+    memcpy(e, dem, sizeof(float) * n);
+    assert_int_equal(pg_pits_remove(t, e, &o, NULL, NULL), PG_OK);
+    uint8_t *sk = NULL;
+    uint64_t ns = 0;
+    assert_int_equal(pits_begin(t, a, &o, &sk, NULL, &ns, NULL), PG_OK);
+    assert_int_equal(*exact, pits_meps_from_fill(t, a, sk, w2) == 0);
+    free(sk);
+    if (*exact) {
+        assert_memory_equal(w, e, sizeof(float) * n);
+        assert_memory_equal(w2, e, sizeof(float) * n);
+    }
+    free(a), free(b), free(w), free(e), free(w2);
+}
+
+/* The minimal fill that the epsilon fill gives along its own tree
+ * (pits_minimal_eps_planchon2002_fill): the plain fill's bytes whenever it checks out,
+ * which it does on grids of wide integer flats; refused where the epsilon-surface's
+ * cheapest path crosses ground one ulp above the fill (an exit one ulp higher than the
+ * rim, beside a long flat), and the counts then still agree. Soille's flood gives the
+ * minimal fill as its running maximum (pits_breach_soille2004_fill): always exact. */
+static void test_eps_fill_gives_fill(void **state) {
+    (void)state;
+    int exacts = 0, cases = 0, exact = 0;
+    pg_pits_topo t;
+    pg_pits_opts o;
+    for (uint32_t seed = 600; seed < 630; seed++, cases++) {
+        int w = 40 + (int)(hash32(seed, 1) % 120), h = 30 + (int)(hash32(seed, 2) % 90);
+        size_t n = (size_t)w * h;
+        float *d = malloc(sizeof(float) * n), *a = malloc(sizeof(float) * n);
+        float *b = malloc(sizeof(float) * n), *f = malloc(sizeof(float) * n);
+        for (size_t i = 0; i < n; i++) {
+            int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+            double v = 40.0 * sin(0.05 * x + seed) * cos(0.07 * y) +
+                       10.0 * (hash32(seed, (uint32_t)i) / 4294967296.0);
+            d[i] = seed % 2 ? (float)v : (float)floor(v / 8) * 8;
+        }
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        pg_pits_opts_default(&o);
+        set_sinks(&o, seed);
+        o.method = PG_PITS_FILL;
+        o.epsilon = false;
+        memcpy(a, d, sizeof(float) * n);
+        assert_int_equal(pg_pits_remove(&t, a, &o, NULL, NULL), PG_OK);
+        o.epsilon = true;
+        memcpy(b, d, sizeof(float) * n);
+        assert_int_equal(pits_minimal_eps_planchon2002_fill(&t, b, &o, NULL, d, f, &exact, NULL),
+                         PG_OK);
+        if (exact) assert_memory_equal(a, f, sizeof(float) * n);
+        float *plain = a;
+        a = malloc(sizeof(float) * n);
+        memcpy(a, d, sizeof(float) * n);
+        assert_int_equal(pg_pits_remove(&t, a, &o, NULL, NULL), PG_OK);
+        assert_memory_equal(a, b, sizeof(float) * n); /* the epsilon fill is unchanged */
+        /* Soille's flood gives it with no check at all: always the same bytes */
+        o.method = PG_PITS_BREACH;
+        o.epsilon = seed % 3 == 0;
+        memcpy(b, d, sizeof(float) * n);
+        assert_int_equal(pits_breach_soille2004_fill(&t, b, &o, NULL, f, NULL), PG_OK);
+        assert_memory_equal(plain, f, sizeof(float) * n);
+        free(plain);
+        exacts += exact;
+        free(d), free(a), free(b), free(f);
+    }
+    assert_true(exacts >= cases - 2);
+    /* sea | X2 = up(s) | P | X1 .. X10 = s | sea: P's cheapest epsilon path leaves over
+     * X2 (up(s) + 1 ulp against s + 10 ulps over the flat), its fill is s (over X1) */
+    enum { W = 14, H = 3 };
+    const float s = 500.0f;
+    float dem[W * H], f[W * H], e[W * H];
+    for (int i = 0; i < W * H; i++)
+        dem[i] = 2000.0f;
+    dem[W + 0] = dem[W + 13] = -100.0f;
+    dem[W + 1] = nextafterf(s, INFINITY);
+    dem[W + 2] = 1.0f;
+    for (int x = 3; x <= 12; x++)
+        dem[W + x] = s;
+    sea_grid(&t, &o, W, H, -50.0);
+    o.method = PG_PITS_FILL;
+    o.epsilon = true;
+    memcpy(e, dem, sizeof e);
+    assert_int_equal(pits_minimal_eps_planchon2002_fill(&t, e, &o, NULL, dem, f, &exact, NULL),
+                     PG_OK);
+    assert_int_equal(exact, 0);
+    assert_true(f[W + 2] > s); /* the tree's answer, which the check refused */
+    float a[W * H];
+    memcpy(a, dem, sizeof a);
+    o.epsilon = false;
+    assert_int_equal(pg_pits_remove(&t, a, &o, NULL, NULL), PG_OK);
+    assert_true(a[W + 2] == s);
+    o.method = PG_PITS_BREACH;
+    memcpy(e, dem, sizeof e);
+    assert_int_equal(pits_breach_soille2004_fill(&t, e, &o, NULL, f, NULL), PG_OK);
+    assert_memory_equal(a, f, sizeof a); /* Soille's flood: right here too */
+    o.method = PG_PITS_FILL;
+    o.epsilon = true;
+    pg_pits_stats before, after, ref;
+    memcpy(e, dem, sizeof e);
+    assert_int_equal(pg_pits_remove_counted(&t, e, &o, NULL, NULL, &before, &after, NULL), PG_OK);
+    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
+    assert_same_stats(&before, &ref);
+    assert_int_equal(before.depression_cells, 1);
+    assert_int_equal(after.depressions, 0);
+}
+
+static void test_fill_eps_guess(void **state) {
+    (void)state;
+    enum { W = 20, H = 3 };
+    float dem[W * H];
+    for (int i = 0; i < W * H; i++)
+        dem[i] = 100.0f;
+    dem[W + 0] = dem[W + W - 1] = 0.0f; /* the sea at both ends */
+    for (int x = 1; x < W - 1; x++)
+        dem[W + x] = 10.0f;
+    dem[W + 9] = 5.0f; /* a pit in the corridor */
+    pg_pits_topo t;
+    pg_pits_opts o;
+    sea_grid(&t, &o, W, H, 0.5);
+    int exact = 0, exacts = 0, cases = 0;
+    check_fill_eps(&t, dem, o, W * H, &exact);
+    assert_int_equal(exact, 1);
+    for (uint32_t seed = 500; seed < 530; seed++, cases++) {
+        int w = 40 + (int)(hash32(seed, 1) % 120), h = 30 + (int)(hash32(seed, 2) % 90);
+        float *d = malloc(sizeof(float) * (size_t)w * h);
+        for (int i = 0; i < w * h; i++) {
+            int x = i % w, y = i / w;
+            double v = 40.0 * sin(0.05 * x + seed) * cos(0.07 * y) +
+                       10.0 * (hash32(seed, (uint32_t)i) / 4294967296.0);
+            d[i] = (float)floor(v / 8) * 8; /* wide flats with many exits */
+        }
+        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+        pg_pits_opts_default(&o);
+        set_sinks(&o, seed);
+        check_fill_eps(&t, d, o, (size_t)w * h, &exact);
+        exacts += exact;
+        free(d);
+    }
+    assert_true(exacts >= cases - 2); /* integer flats: the guess holds */
 }
 
 /* The certificate that spares the count after a removal: whenever it holds, the
@@ -628,11 +809,12 @@ static void test_bad_input_and_nodata(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_all_methods_drain),  cmocka_unit_test(test_exact_fill),
-        cmocka_unit_test(test_hybrid_limits),      cmocka_unit_test(test_hybrid_length_limit),
-        cmocka_unit_test(test_thread_invariance),  cmocka_unit_test(test_stats),
-        cmocka_unit_test(test_stats_reference),    cmocka_unit_test(test_bad_input_and_nodata),
-        cmocka_unit_test(test_remove_counted),     cmocka_unit_test(test_drain_certificate),
+        cmocka_unit_test(test_all_methods_drain),   cmocka_unit_test(test_exact_fill),
+        cmocka_unit_test(test_hybrid_limits),       cmocka_unit_test(test_hybrid_length_limit),
+        cmocka_unit_test(test_thread_invariance),   cmocka_unit_test(test_stats),
+        cmocka_unit_test(test_stats_reference),     cmocka_unit_test(test_bad_input_and_nodata),
+        cmocka_unit_test(test_remove_counted),      cmocka_unit_test(test_fill_eps_guess),
+        cmocka_unit_test(test_eps_fill_gives_fill), cmocka_unit_test(test_drain_certificate),
         cmocka_unit_test(test_stats_eps_fallback),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

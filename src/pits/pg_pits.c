@@ -60,15 +60,19 @@ const char *pg_pits_citation(const pg_pits_opts *o) {
     return pg_pits_method_citation(o->method);
 }
 
+/* Whether the plain fill runs in tiles (Barnes 2016); the tiled fill's labels
+ * (< ncells + one tile) must fit in 32 bits. */
+static int tiled_fill(const pg_pits_topo *t, const pg_pits_opts *o) {
+    return t->ncells < (UINT64_C(1) << 31) &&
+           (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096));
+}
+
 static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                           pg_pits_result *res, pg_error *err) {
     switch (o->method) {
     case PG_PITS_FILL:
-        /* the tiled fill's labels (< ncells + one tile) must fit in 32 bits */
         if (o->epsilon) return pits_minimal_eps_planchon2002(t, h, o, res, err);
-        if (t->ncells < (UINT64_C(1) << 31) &&
-            (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096)))
-            return pits_parallel_fill_barnes2016(t, h, o, res, err);
+        if (tiled_fill(t, o)) return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
         if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);
@@ -204,27 +208,51 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     const int plain_fill = o->method == PG_PITS_FILL && !o->epsilon;
     const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
     const int descent = o->method != PG_PITS_FILL && o->descent;
+    const int soille = o->method == PG_PITS_BREACH && !o->descent;
     float *in = malloc(n * sizeof *in), *w = NULL, *fill = NULL;
     if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     memcpy(in, h, n * sizeof *in);
-    if (plain_fill || descent) w = malloc(n * sizeof *w);
-    if (eps_fill || descent) fill = malloc(n * sizeof *fill);
-    if ((plain_fill || descent) && !w) s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
-    if (!s && (eps_fill || descent) && !fill)
+    const int need_w = plain_fill || descent || soille, need_fill = eps_fill || descent || soille;
+    if (need_w) w = malloc(n * sizeof *w);
+    if (need_fill) fill = malloc(n * sizeof *fill);
+    if ((need_w && !w) || (need_fill && !fill))
         s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     pg_pits_result local = {0};
     /* the removal, keeping what its floods computed about the input: a plain fill is
      * the input's minimal fill, an epsilon fill its epsilon-surface, the descent tree
-     * is built on that surface */
-    if (!s)
-        s = descent ? pits_breach_descent(t, h, o, &local, err, w) : dispatch(t, h, o, &local, err);
+     * is built on that surface. The serial plain fill also gives the epsilon-surface,
+     * the epsilon fill the minimal fill (each checked; docs/pits.md, "Metrics"). */
+    int counted = 0;                                         /* the count after is done */
+    const int serial_fill = plain_fill && !tiled_fill(t, o); /* it gives w as well */
+    int have_fill = 0; /* the epsilon fill gave the minimal fill as well */
+    if (!s && descent)
+        s = pits_breach_descent(t, h, o, &local, err, w);
+    else if (!s && serial_fill)
+        s = pits_priority_flood_barnes2014_eps(t, h, o, &local, w, &counted, err);
+    else if (!s && eps_fill)
+        s = pits_minimal_eps_planchon2002_fill(t, h, o, &local, in, fill, &have_fill, err);
+    else if (!s && soille)
+        s = pits_breach_soille2004_fill(t, h, o, &local, fill, err), have_fill = 1;
+    else if (!s)
+        s = dispatch(t, h, o, &local, err);
     if (!s) summarise(t, in, h, &local);
-    /* the other surface comes from its own flood; the other methods count as
-     * pg_pits_stats_compute does */
-    int counted = 0; /* the count after is done */
-    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
-    if (!s && (eps_fill || descent)) s = fill_of(t, in, o, 0, fill, err);
-    if (!s && (plain_fill || eps_fill || descent))
+    if (!s && counted) { /* w checked out, so f has no depression (eps_of_fill) */
+        memset(after, 0, sizeof *after);
+        after->sinks = local.sinks;
+    } else if (!s && serial_fill) { /* the same guess would fail again: flood */
+        s = fill_of(t, in, o, 1, w, err);
+    }
+    /* otherwise the other surface comes from its own flood; the other methods count
+     * as pg_pits_stats_compute does */
+    if (!s && plain_fill && !serial_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
+    if (!s && (eps_fill || descent) && !have_fill) s = fill_of(t, in, o, 0, fill, err);
+    if (!s && soille) { /* the epsilon-surface from its fill's flats, else a flood */
+        int exact = 0;
+        uint64_t nsinks = 0;
+        s = pits_eps_from_fill(t, fill, o, w, &exact, &nsinks, err);
+        if (!s && !exact) s = fill_of(t, in, o, 1, w, err);
+    }
+    if (!s && (plain_fill || eps_fill || descent || soille))
         s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,
                                   before, err);
     else if (!s) /* a removal's input: search for "no depression" only after */

@@ -203,6 +203,12 @@ static inline uint32_t pits_rheap_top_key(pits_rheap *r) {
     return r->last; /* after an oom in the refill, the caller's oom check stops it */
 }
 
+/* Whether entries with the key last popped remain (bucket 0), without a refill: a
+ * refill would move `last` up to the next key, past keys the caller may still push. */
+static inline int pits_rheap_level_left(const pits_rheap *r) {
+    return r->n[0] != 0;
+}
+
 /* Removes one entry with the smallest key: returns (key << 32 | id). */
 static inline uint64_t pits_rheap_pop(pits_rheap *r) {
     if (!r->n[0]) pits_rheap_refill(r);
@@ -270,7 +276,8 @@ typedef struct pits_meps {
     const float *floor;
     int (*settable)(const void *ctx, uint32_t id);
     const void *ctx;
-    int plain; /* up(w) = w: the minimal (plain) fill instead */
+    int plain;   /* up(w) = w: the minimal (plain) fill instead */
+    float *fill; /* NULL, or each set cell's max(floor, fill of the cell that set it) */
 } pits_meps;
 
 int pits_meps_flood(pits_meps *m, pits_heap *q);
@@ -285,6 +292,10 @@ int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const 
  * pits_begin on f) into w, by distances on f's flats, checked against (1): 0 when w
  * is exact, nonzero when the check failed or memory ran out (then flood instead). */
 int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w);
+/* Whether w solves (1) with floor f at every cell of the flood (st below PITS_SINK;
+ * sinks count as -inf): 0 when it does, so that w is the epsilon-surface of any input
+ * between f's input and w. Sets w = f at the sinks and no-data cells. Parallel. */
+int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w);
 /* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
 void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
 
@@ -340,13 +351,30 @@ int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, con
 /* The algorithms; h is modified in place. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                          pg_pits_result *res, pg_error *err);
+/* The same fill, and with it the epsilon-surface of its input into w (ncells floats)
+ * from distances on the fill's flats (docs/pits.md, "Metrics"): *exact = 1 when w
+ * checks out (pits_meps_check), else w is undefined and the caller floods. */
+pg_status pits_priority_flood_barnes2014_eps(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                             pg_pits_result *res, float *w, int *exact,
+                                             pg_error *err);
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
+/* The same epsilon-fill, and with it the minimal (plain) fill of its input into fill
+ * (ncells floats), along the flood's own tree: *exact = 1 when that checks out
+ * (the file's fill_check), else fill is undefined and the caller floods. in: a copy of
+ * h as given, which the flood reads while it writes the surface into h. */
+pg_status pits_minimal_eps_planchon2002_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                             pg_pits_result *res, const float *in, float *fill,
+                                             int *exact, pg_error *err);
 /* w_out: NULL, or ncells floats that get the minimal epsilon-surface of the input */
 pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                               pg_pits_result *res, pg_error *err, float *w_out);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
+/* The same breach, and with it the minimal fill of its input into fill (ncells
+ * floats; exact: no check needed, the file says why). */
+pg_status pits_breach_soille2004_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                      pg_pits_result *res, float *fill, pg_error *err);
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

@@ -45,7 +45,7 @@
  * it), which skips the settled cells with one load. With the state array (by_state),
  * the cells that may not be set need no test of their own: flood_rest gives them
  * w = floor, and max(floor, up) < floor never holds. */
-static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
+static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state, float *fill) {
     pits_fifo fifo = {0};
     pits_rheap r = {0};
     uint32_t nb[8];
@@ -73,6 +73,7 @@ static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
         }
         float hk = pits_key_height((uint64_t)kord << 32);
         float up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
+        float fc = fill ? fill[c] : 0;
         int k = pg_pits_neighbours(m->t, c, nb);
         for (int j = 0; j < k; j++) {
             uint32_t n = nb[j];
@@ -82,6 +83,7 @@ static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
             float cand = pits_maxf(floor_[n], up);
             if (cand < wn) {
                 w[n] = cand;
+                if (fill) fill[n] = pits_maxf(floor_[n], fc);
                 if (cand == up)
                     pits_fifo_push(&fifo, n);
                 else
@@ -96,7 +98,8 @@ static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state) {
 }
 
 int pits_meps_flood(pits_meps *m, pits_heap *q) {
-    return m->settable ? meps_flood(m, q, 0) : meps_flood(m, q, 1);
+    if (m->settable) return meps_flood(m, q, 0, NULL);
+    return m->fill ? meps_flood(m, q, 1, m->fill) : meps_flood(m, q, 1, NULL);
 }
 
 /* Step 1, linear: a cell with a strictly descending path to a sink keeps its height
@@ -123,35 +126,44 @@ static int close_drained(const pg_pits_topo *t, const float *h, uint8_t *st, con
 }
 
 /* Step 2: the flood over the rest (flats and depressions), seeded from its border. */
-static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, float *w, int eps) {
+static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, float *w, int eps,
+                      float *fill) {
     pits_heap q = {0};
     uint32_t nb[8];
     for (uint64_t i = 0; i < t->ncells; i++) {
         w[i] = h[i];
+        if (fill) fill[i] = h[i]; /* drained cells and sinks: their own height */
         if (st[i] != PITS_OPEN) continue;
         w[i] = INFINITY;
         int k = pg_pits_neighbours(t, (uint32_t)i, nb);
         for (int j = 0; j < k; j++)
             if (st[nb[j]] != PITS_OPEN) {
                 float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
-                w[i] = pits_minf(w[i], pits_maxf(h[i], eps ? pits_up(v) : v));
+                float cand = pits_maxf(h[i], eps ? pits_up(v) : v);
+                if (cand < w[i] && fill) fill[i] = pits_maxf(h[i], v);
+                w[i] = pits_minf(w[i], cand);
             }
         /* pits_meps_flood takes its sources in any order: no heap order needed */
         if (w[i] < INFINITY && (q.n < q.cap || (pits_heap_grow(&q), !q.oom)))
             q.a[q.n++] = pits_key(w[i], (uint32_t)i);
     }
-    pits_meps m = {t, w, h, NULL, st, !eps};
+    pits_meps m = {t, w, h, NULL, st, !eps, fill};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom;
 }
 
-int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
-                      float *w, int eps) {
-    if (close_drained(t, h, st, q) || flood_rest(t, h, st, w, eps)) return -1;
+static int meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
+                        float *w, int eps, float *fill) {
+    if (close_drained(t, h, st, q) || flood_rest(t, h, st, w, eps, fill)) return -1;
     for (uint64_t i = 0; i < t->ncells; i++)
         if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
     return 0;
+}
+
+int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
+                      float *w, int eps) {
+    return meps_compute(t, h, st, q, w, eps, NULL);
 }
 
 /* The epsilon-surface from the minimal fill f, without a flood, for the depression
@@ -217,35 +229,86 @@ int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st
     int oom = q.oom;
     pits_fifo_free(&q);
     if (oom) return -1;
-#pragma omp parallel for reduction(+ : bad) schedule(static)
-    for (int64_t i = 0; i < n; i++) {
-        if (st[i] != PITS_OPEN) continue;
-        uint32_t nb2[8];
-        int k = pg_pits_neighbours(t, (uint32_t)i, nb2);
-        float m = INFINITY;
-        for (int j = 0; j < k; j++)
-            m = pits_minf(m, st[nb2[j]] != PITS_OPEN ? -INFINITY : w[nb2[j]]);
-        bad += bits_of(w[i]) != bits_of(pits_maxf(f[i], pits_up(m)));
-    }
-    return bad ? -1 : 0;
+    return pits_meps_check(t, f, st, w) ? -1 : 0;
 }
 
-pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                        pg_pits_result *res, pg_error *err) {
+int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w) {
+    const int64_t n = (int64_t)t->ncells;
+    int64_t bad = 0;
+#pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++) {
+        if (st[i] >= PITS_SINK) { /* not read below: sinks count as -inf */
+            w[i] = f[i];
+            continue;
+        }
+        uint32_t nb[8];
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
+        float m = INFINITY;
+        for (int j = 0; j < k; j++)
+            m = pits_minf(m, st[nb[j]] >= PITS_SINK ? -INFINITY : w[nb[j]]);
+        bad += bits_of(w[i]) != bits_of(pits_maxf(f[i], pits_up(m)));
+    }
+    return bad != 0;
+}
+
+/* The minimal fill along the flood's tree: a set cell takes max(h, the fill of the cell
+ * that set it), a drained cell or a sink its own height, so each value is the highest
+ * ground on one path to a sink, never below the minimal fill f. It is f exactly when it
+ * solves f(c) = max(h(c), min over neighbours f(n)) at every cell of the flood (sinks
+ * count as -inf): f is the LARGEST solution. For if some solution F had F(c) > f(c),
+ * take the next cell n on c's path to a sink whose highest ground is f(c): n is not a
+ * sink (F(c) would be h(c) <= f(c)), F(n) >= F(c) since F(c) > h(c), and f(n) <= f(c),
+ * so n has F(n) > f(n) as well, and so on down to the sink: a contradiction. 0 when it
+ * holds. Parallel, linear. */
+static int fill_check(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *fill) {
+    const int64_t n = (int64_t)t->ncells;
+    int64_t bad = 0;
+#pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++) {
+        if (st[i] >= PITS_SINK) continue;
+        uint32_t nb[8];
+        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
+        float m = INFINITY;
+        for (int j = 0; j < k; j++)
+            m = pits_minf(m, st[nb[j]] >= PITS_SINK ? -INFINITY : fill[nb[j]]);
+        bad += bits_of(fill[i]) != bits_of(pits_maxf(h[i], m));
+    }
+    return bad != 0;
+}
+
+/* floor: NULL, or a copy of h that stays the input, so that the surface goes straight
+ * into h instead of a buffer of its own (the counted removal has that copy anyway). */
+static pg_status eps_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                          pg_pits_result *res, const float *floor, float *fill, int *exact,
+                          pg_error *err) {
     pits_heap q = {0};
     uint8_t *st = NULL;
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
-    float *w = malloc(t->ncells * sizeof *w);
-    int oom = !w || pits_meps_compute(t, h, st, &q, w, 1);
-    for (uint64_t i = 0; !oom && i < t->ncells; i++)
+    const float *in = floor ? floor : h; /* no-data cells are not read: sinks */
+    float *w = floor ? h : malloc(t->ncells * sizeof *w);
+    int oom = !w || meps_compute(t, in, st, &q, w, 1, fill);
+    if (!oom && fill) *exact = !fill_check(t, in, st, fill);
+    for (uint64_t i = 0; !oom && !floor && i < t->ncells; i++)
         if (st[i] == PITS_CLOSED) h[i] = w[i];
     pits_heap_free(&q);
     pits_end(t, h, o, st);
     free(st);
-    free(w);
+    if (!floor) free(w);
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory in the flood queues");
     if (res) res->sinks = nsinks;
     return PG_OK;
+}
+
+pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                        pg_pits_result *res, pg_error *err) {
+    return eps_fill(t, h, o, res, NULL, NULL, NULL, err);
+}
+
+pg_status pits_minimal_eps_planchon2002_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                             pg_pits_result *res, const float *in, float *fill,
+                                             int *exact, pg_error *err) {
+    *exact = 0;
+    return eps_fill(t, h, o, res, in, fill, exact, err);
 }
