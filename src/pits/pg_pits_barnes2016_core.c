@@ -89,8 +89,41 @@ static void seed_tile(pits_b16_tile *g, pits_rheap *q, pits_b16_edges *cross) {
         }
 }
 
+/* Spill edges pass through a small direct-mapped cache keyed by the label pair, which
+ * keeps each pair's lowest height: a boundary between two labels is met once per
+ * neighbouring cell pair (on the hard DEM of docs/pits.md, ten million times for a
+ * few hundred thousand pairs). An entry leaves for ev when another pair takes its
+ * slot, and all of them at the end. The solve reads only each pair's lowest height,
+ * so the cache changes the edge list, never the levels. */
+enum { EDGE_CACHE = 4096 };
+
+typedef struct edge_cache {
+    pits_b16_edge e[EDGE_CACHE]; /* a == b: empty */
+} edge_cache;
+
+static inline void cache_push(edge_cache *c, pits_b16_edges *ev, uint32_t a, uint32_t b, float w) {
+    if (a > b) {
+        uint32_t t = a;
+        a = b, b = t;
+    }
+    pits_b16_edge *s = &c->e[(a * 0x9e3779b1u ^ b * 0x85ebca77u) >> 20];
+    if (s->a == a && s->b == b) {
+        if (w < s->w) s->w = w;
+        return;
+    }
+    if (s->a != s->b) pits_b16_edge_push(ev, s->a, s->b, s->w);
+    *s = (pits_b16_edge){a, b, w};
+}
+
+static void cache_flush(edge_cache *c, pits_b16_edges *ev) {
+    for (size_t i = 0; i < EDGE_CACHE; i++)
+        if (c->e[i].a != c->e[i].b) pits_b16_edge_push(ev, c->e[i].a, c->e[i].b, c->e[i].w);
+}
+
 int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cross) {
     pits_fifo pit = {0};
+    edge_cache *cache = calloc(1, sizeof *cache);
+    if (!cache) return 1;
     /* the order of equal heights changes the labels but not the result (the fill is
      * unique), so the front is a radix heap on the heights (pg_pits_internal.h) */
     pits_rheap r = {0};
@@ -107,7 +140,7 @@ int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cr
             if (!pits_b16_inside(g, n)) continue;
             uint32_t ln = g->label[n];
             if (ln) {
-                if (ln != lc) pits_b16_edge_push(ev, lc, ln, pits_maxf(wc, pits_b16_eff(g, n)));
+                if (ln != lc) cache_push(cache, ev, lc, ln, pits_maxf(wc, pits_b16_eff(g, n)));
                 continue;
             }
             g->label[n] = lc;
@@ -119,6 +152,8 @@ int pits_b16_flood_tile(pits_b16_tile *g, pits_b16_edges *ev, pits_b16_edges *cr
             }
         }
     }
+    cache_flush(cache, ev);
+    free(cache);
     int oom = r.oom || pit.oom || ev->oom || cross->oom;
     pits_rheap_free(&r);
     pits_fifo_free(&pit);
