@@ -220,15 +220,12 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     pg_pits_result local = {0};
     /* the removal, keeping what its floods computed about the input: a plain fill is
      * the input's minimal fill, an epsilon fill its epsilon-surface, the descent tree
-     * is built on that surface. The serial plain fill also gives the epsilon-surface,
-     * the epsilon fill the minimal fill (each checked; docs/pits.md, "Metrics"). */
-    int counted = 0;                                         /* the count after is done */
-    const int serial_fill = plain_fill && !tiled_fill(t, o); /* it gives w as well */
+     * is built on that surface. The epsilon fill also gives the minimal fill (checked;
+     * docs/pits.md, "Metrics"). */
+    int counted = 0;   /* the count after is done */
     int have_fill = 0; /* the epsilon fill gave the minimal fill as well */
     if (!s && descent)
         s = pits_breach_descent(t, h, o, &local, err, w);
-    else if (!s && serial_fill)
-        s = pits_priority_flood_barnes2014_eps(t, h, o, &local, w, &counted, err);
     else if (!s && eps_fill)
         s = pits_minimal_eps_planchon2002_fill(t, h, o, &local, in, fill, &have_fill, err);
     else if (!s && soille)
@@ -236,15 +233,9 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     else if (!s)
         s = dispatch(t, h, o, &local, err);
     if (!s) summarise(t, in, h, &local);
-    if (!s && counted) { /* w checked out, so f has no depression (eps_of_fill) */
-        memset(after, 0, sizeof *after);
-        after->sinks = local.sinks;
-    } else if (!s && serial_fill) { /* the same guess would fail again: flood */
-        s = fill_of(t, in, o, 1, w, err);
-    }
     /* otherwise the other surface comes from its own flood; the other methods count
      * as pg_pits_stats_compute does */
-    if (!s && plain_fill && !serial_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
+    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
     if (!s && (eps_fill || descent) && !have_fill) s = fill_of(t, in, o, 0, fill, err);
     if (!s && soille) { /* the epsilon-surface from its fill's flats, else a flood */
         int exact = 0;

@@ -203,12 +203,6 @@ static inline uint32_t pits_rheap_top_key(pits_rheap *r) {
     return r->last; /* after an oom in the refill, the caller's oom check stops it */
 }
 
-/* Whether entries with the key last popped remain (bucket 0), without a refill: a
- * refill would move `last` up to the next key, past keys the caller may still push. */
-static inline int pits_rheap_level_left(const pits_rheap *r) {
-    return r->n[0] != 0;
-}
-
 /* Removes one entry with the smallest key: returns (key << 32 | id). */
 static inline uint64_t pits_rheap_pop(pits_rheap *r) {
     if (!r->n[0]) pits_rheap_refill(r);
@@ -351,12 +345,6 @@ int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, con
 /* The algorithms; h is modified in place. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                          pg_pits_result *res, pg_error *err);
-/* The same fill, and with it the epsilon-surface of its input into w (ncells floats)
- * from distances on the fill's flats (docs/pits.md, "Metrics"): *exact = 1 when w
- * checks out (pits_meps_check), else w is undefined and the caller floods. */
-pg_status pits_priority_flood_barnes2014_eps(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                             pg_pits_result *res, float *w, int *exact,
-                                             pg_error *err);
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
 /* The same epsilon-fill, and with it the minimal (plain) fill of its input into fill
