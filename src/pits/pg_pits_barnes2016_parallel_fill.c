@@ -26,12 +26,11 @@
  * labels is an edge with its spill height). The minimal fill is unique, so the
  * result is bit-identical to the serial fill for any tiling and thread count; the
  * tests compare them on random grids with many small tiles. */
-#define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
+#include "pg_huge.h"
 #include "pg_pits_barnes2016_core.h"
 
 #include <omp.h>
 #include <stdlib.h>
-#include <sys/mman.h>
 
 typedef struct tiling {
     const pg_pits_topo *t;
@@ -90,26 +89,14 @@ static uint32_t perimeter_bound(const pg_pits_topo *t, uint64_t tile_size) {
     return (uint32_t)(b < tile_size ? b : tile_size);
 }
 
-/* The label array (4 B a cell) on transparent huge pages where the kernel allows
- * (madvise mode): fewer page faults, each of which costs the other threads a TLB
- * shootdown on a virtual machine. Zeroed by the tiles (flood_tile). */
-static uint32_t *alloc_labels(size_t n) {
-    const size_t huge = (size_t)2 << 20;
-    size_t bytes = (n * sizeof(uint32_t) + huge - 1) / huge * huge;
-    uint32_t *p = aligned_alloc(huge, bytes);
-#ifdef MADV_HUGEPAGE
-    if (p) madvise(p, bytes, MADV_HUGEPAGE);
-#endif
-    return p;
-}
-
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err) {
     uint8_t *st = NULL;
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, NULL, &nsinks, err);
     if (s) return s;
-    tiling g = {t, h, st, alloc_labels(t->ncells), 0, 0, 0};
+    /* labels on huge pages (pg_huge.h), zeroed by each tile's own thread (flood_tile) */
+    tiling g = {t, h, st, pg_huge_alloc(t->ncells * sizeof(uint32_t)), 0, 0, 0};
     g.ntiles = choose_tiles(t, o, &g.tile_size);
     g.bound = perimeter_bound(t, g.tile_size);
     /* ev[0..ntiles) in-tile spill edges, ev[ntiles..2*ntiles) cross-tile pairs */

@@ -11,7 +11,8 @@
  * the arrays point into a private mapping, so loading costs the header and the page
  * table, and each page is read when the synthesis first touches it. Renaming a new
  * file over the old one leaves a mapping of the old one intact. */
-#define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
+#define _DEFAULT_SOURCE /* madvise(MADV_POPULATE_READ, MADV_DONTNEED) */
+#include "pg_huge.h"
 #include "pg_synth_internal.h"
 
 #include <errno.h>
@@ -45,19 +46,6 @@ static size_t ntexels(const pg_synth_exemplar *ex) {
     return (size_t)ex->nfaces * ex->face_size * ex->face_size;
 }
 
-/* Large random-access tables live on transparent huge pages where the kernel allows
- * (madvise mode): synthesis reads them at random and is otherwise bound by TLB misses. */
-static void *alloc_table(size_t bytes) {
-    const size_t huge = (size_t)2 << 20;
-    size_t rounded = (bytes + huge - 1) / huge * huge;
-    void *p = aligned_alloc(huge, rounded);
-    if (!p) return NULL;
-#ifdef MADV_HUGEPAGE
-    madvise(p, rounded, MADV_HUGEPAGE);
-#endif
-    return p;
-}
-
 pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int dims, int k) {
     pg_synth_exemplar *ex = calloc(1, sizeof *ex);
     if (!ex) return NULL;
@@ -81,8 +69,8 @@ pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int
     for (int s = 0; s < levels && ok; s++) {
         /* not cleared: the preparation writes every entry, in parallel, so the threads
          * share the kernel's zeroing of the fresh pages instead of one memset */
-        ex->app[s] = alloc_table(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
-        ex->kcoh[s] = k > 1 ? alloc_table(n * (k - 1) * sizeof(uint32_t)) : NULL;
+        ex->app[s] = pg_huge_alloc(n * PG_SYNTH_MAX_DIMS * sizeof(int16_t));
+        ex->kcoh[s] = k > 1 ? pg_huge_alloc(n * (k - 1) * sizeof(uint32_t)) : NULL;
         ok = ex->app[s] && (k <= 1 || ex->kcoh[s]);
     }
     if (!ok) {
@@ -245,8 +233,8 @@ pg_status pg_synth_copy_level(const pg_synth_exemplar *ex, int scale, int16_t **
     if (!ex->map || scale < 0 || scale >= ex->levels) return PG_OK;
     size_t n = ntexels(ex), ab = n * PG_SYNTH_MAX_DIMS * sizeof(int16_t),
            kb = ex->k > 1 ? n * (size_t)(ex->k - 1) * sizeof(uint32_t) : 0;
-    *app = alloc_table(ab);
-    *kcoh = kb ? alloc_table(kb) : NULL;
+    *app = pg_huge_alloc(ab);
+    *kcoh = kb ? pg_huge_alloc(kb) : NULL;
     if (!*app || (kb && !*kcoh)) {
         free(*app), free(*kcoh);
         *app = NULL, *kcoh = NULL;

@@ -1,0 +1,21 @@
+/* pg_huge.h - large arrays on transparent huge pages, where the kernel allows it.
+ *
+ * With transparent huge pages in "madvise" mode (Debian's default), a big array gets
+ * 2 MB pages only when it is aligned to them and asked for with madvise. That means
+ * 512 times fewer page faults when the array is first touched, and on a virtual
+ * machine each fault can cost the other threads a TLB shootdown. It also means fewer
+ * TLB misses when the array is read at random (the synthesis tables, the labels of
+ * the tiled fill).
+ *
+ * Ownership: the caller frees the block with free(). The memory is not zeroed.
+ * Library-internal: not part of the installed API. */
+#ifndef PG_HUGE_H
+#define PG_HUGE_H
+
+#include <stddef.h>
+
+/* `bytes` rounded up to whole 2 MB pages, aligned to them, advised as huge pages;
+ * NULL when the allocation fails. */
+void *pg_huge_alloc(size_t bytes);
+
+#endif
