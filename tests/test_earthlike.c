@@ -5,7 +5,8 @@
  * and shares at the 1e4 / 1e6 km^2 thresholds, the rank-size slope of three caps,
  * hypsometry (Archimedes: z is uniform by area on a sphere, so h = c z has known
  * quantiles, moments and W1), zonal ice and desert figures, the zonal correlation,
- * thread-count independence, bad input; and novelty against the real exemplar: Earth
+ * thread-count independence, bad input, shelf widths round a continent with a narrow
+ * and a wide shelf; and novelty against the real exemplar: Earth
  * itself agrees with Earth, Earth turned 180 degrees in longitude agrees by chance.
  * Over 600 lines because one file holds every case of the module, each independent. */
 #include "pg_test.h"
@@ -347,8 +348,8 @@ static void test_quantiles_brute_force(void **s) {
     int n = 64;
     make_planet(&p, n, pg_ellipsoid_sphere(), PG_CUBE_EQUIANGULAR);
     double *area = malloc(sizeof *area * n * n), *hw = malloc(sizeof *hw * 2 * 6 * n * n);
-    assert_int_equal(pg_pits_cube_face_areas(p.projection, n, PG_ELLIPSOID_SPHERE_RADIUS_M, area, &err),
-                     PG_OK);
+    assert_int_equal(
+        pg_pits_cube_face_areas(p.projection, n, PG_ELLIPSOID_SPHERE_RADIUS_M, area, &err), PG_OK);
     size_t m = 0;
     double sw = 0, swh = 0, swh2 = 0, lo = INFINITY, hi = -INFINITY;
     for (int f = 0; f < PG_CUBE_NFACES; f++)
@@ -596,6 +597,50 @@ static void test_novelty_real_exemplar(void **s) {
     free(e);
 }
 
+/* A round continent (radius 20 degrees, over the (+X, +Y, +Z) cube corner) whose shelf
+ * (-100 m) is 8 degrees wide on one side of it and 2 on the other, then deep ocean; a
+ * lake (-50 m) inside it never reaches deep water. The widths come out as the two
+ * shelves (the 8-neighbour hop count reads a radial path between 1/sqrt(2) and 1 of its
+ * length), and the lake's shore is counted apart, not as shelf. */
+typedef struct shelf_world {
+    double c[3], side[3];
+} shelf_world;
+
+static void shelf_texel(const double d[3], const void *ctx, float *h, float rgb[3]) {
+    const shelf_world *w = ctx;
+    double r = acos(fmin(1, dot(d, w->c))) / DEG, width = dot(d, w->side) > 0 ? 8 : 2;
+    *h = r < 2 ? -50 : r < 20 ? 300 : r < 20 + width ? -100 : -3000;
+    rgb[0] = 0.3f, rgb[1] = 0.35f, rgb[2] = 0.2f;
+}
+
+static void test_shelf_width(void **s) {
+    (void)s;
+    pg_planet p;
+    make_planet(&p, 256, pg_ellipsoid_sphere(), PG_CUBE_EQUIANGULAR);
+    shelf_world w = {{1, 1, 1}, {1, -1, 0}};
+    unit(w.c);
+    paint(&p, shelf_texel, &w);
+    pg_earthlike *e = compute_new(&p);
+    const double km_per_deg = PG_ELLIPSOID_SPHERE_RADIUS_M * DEG / 1000;
+    double narrow = 2 * km_per_deg, wide = 8 * km_per_deg;
+    assert_true(e->shelf_closed_texels > 0);
+    assert_true(e->shelf_coast_texels > 4 * e->shelf_closed_texels);
+    printf("shelf widths p10 %.0f, p50 %.0f, p90 %.0f km (shelves %.0f and %.0f km)\n",
+           e->shelf_width_p10_km, e->shelf_width_p50_km, e->shelf_width_p90_km, narrow, wide);
+    assert_true(e->shelf_width_p10_km > 0.65 * narrow && e->shelf_width_p10_km < 1.15 * narrow);
+    assert_true(e->shelf_width_p90_km > 0.65 * wide && e->shelf_width_p90_km < 1.15 * wide);
+    /* no shelf at all: every coast texel is one texel (39 km here) from deep water */
+    for (int f = 0; f < PG_CUBE_NFACES; f++)
+        for (int64_t i = 0; i < p.n * p.n; i++)
+            if (p.height[f][i] == -100) p.height[f][i] = -3000;
+    free(e);
+    e = compute_new(&p);
+    printf("without the shelf: p90 %.0f km\n", e->shelf_width_p90_km);
+    assert_true(e->shelf_width_p90_km < 50);
+    free(e);
+    pg_planet_free(&p);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_areas_sum_to_the_ellipsoid),
@@ -610,6 +655,7 @@ int main(void) {
         cmocka_unit_test(test_albedo_rounding),
         cmocka_unit_test(test_thread_count_independent),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_shelf_width),
         cmocka_unit_test(test_novelty_real_exemplar),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -79,7 +79,18 @@ typedef struct pg_earthlike {
      * land within |lat| < 10 deg). NaN when either zone has no land or when neither
      * has desert; +INFINITY when the subtropics have desert and the equator none. */
     double desert_band_ratio;
+    /* Continental shelf along the coasts (pg_earthlike_shelf.c): a coast texel is land
+     * with a sea neighbour (8-connected); its shelf width is the distance through the
+     * sea to the nearest texel more than PG_EARTHLIKE_SHELF_BREAK_M below sea level, in
+     * km (hops of the 8-neighbour graph times the coast texel's width, so one texel
+     * width at least). Quantiles over the coast texels that reach such depth; NaN when
+     * none does. Coast texels of seas that never reach it are counted apart. */
+    uint64_t shelf_coast_texels;  /* all coast texels */
+    uint64_t shelf_closed_texels; /* of those, on seas without deep water */
+    double shelf_width_p10_km, shelf_width_p50_km, shelf_width_p90_km;
 } pg_earthlike;
+
+#define PG_EARTHLIKE_SHELF_BREAK_M 200.0 /* the shelf break: depth below sea level */
 
 /* All figures above for planet p. BADINPUT for an empty planet, a face size above
  * 26754 (texel ids must fit 32 bits) or a non-finite height or sea level; NOMEM.

@@ -235,6 +235,12 @@ static void print_geometry(pg_cli *cli, const pg_realism *P, const pg_realism *E
     pg_cli_info(cli, "  %-26s %s\n", "", note);
 }
 
+/* How unequal the shelf is along the coasts: the 90th over the 10th percentile of its
+ * width (docs/inspect.md, "Continental shelf"). */
+static double shelf_spread(const pg_earthlike *e) {
+    return e->shelf_width_p90_km / e->shelf_width_p10_km;
+}
+
 static void print_earthlike(pg_cli *cli, const pg_realism *P, const pg_realism *E, double belts) {
     const pg_earthlike *p = &P->earthlike, *e = &E->earthlike;
     char note[160];
@@ -254,6 +260,9 @@ static void print_earthlike(pg_cli *cli, const pg_realism *P, const pg_realism *
         "ice share of land poleward of 66 deg");
     row(cli, "desert_band_ratio", p->desert_band_ratio, e->desert_band_ratio,
         "desert share of land at 15-35 deg / within 10 deg");
+    snprintf(note, sizeof note, "shelf width at the coasts, median %.0f km (Earth %.0f)",
+             p->shelf_width_p50_km, e->shelf_width_p50_km);
+    row(cli, "shelf_width_spread", shelf_spread(p), shelf_spread(e), note);
     row(cli, "mountain_belt_fraction", belts, NAN,
         "share of non-ice land above 2000 m within 500 km of a convergent boundary");
     row(cli, "zonal correlation", P->zonal_correlation, E->zonal_correlation,
@@ -327,6 +336,10 @@ static void json_keys(pg_json *o, const pg_realism *r) {
     pg_json_set_number(o, "ice_equator_fraction", e->ice_equator_fraction);
     pg_json_set_number(o, "ice_polar_fraction", e->ice_polar_fraction);
     pg_json_set_number(o, "desert_band_ratio", e->desert_band_ratio);
+    pg_json_set_number(o, "shelf_width_p10_km", e->shelf_width_p10_km);
+    pg_json_set_number(o, "shelf_width_p50_km", e->shelf_width_p50_km);
+    pg_json_set_number(o, "shelf_width_p90_km", e->shelf_width_p90_km);
+    pg_json_set_number(o, "shelf_width_spread", shelf_spread(e));
     pg_json_set_number(o, "novelty", r->novelty.novelty);
     pg_json_set_number(o, "hack_exponent", r->drainage.hack_exponent);
     pg_json_set_number(o, "depressions", (double)r->depressions.depressions);
@@ -376,6 +389,8 @@ static void json_details(pg_json *o, const pg_realism *r) {
     pg_json_set_number(d, "landmasses_1e4", (double)e->landmasses_1e4);
     pg_json_set_number(d, "largest_landmass_km2", e->largest_landmass_km2);
     pg_json_set_number(d, "rank_size_slope", e->rank_size_slope);
+    pg_json_set_number(d, "shelf_coast_texels", (double)e->shelf_coast_texels);
+    pg_json_set_number(d, "shelf_closed_texels", (double)e->shelf_closed_texels);
     pg_json_set_number(d, "land_mean_m", e->land_mean_m);
     pg_json_set_number(d, "land_std_m", e->land_std_m);
     pg_json_set_number(d, "ocean_mean_m", e->ocean_mean_m);

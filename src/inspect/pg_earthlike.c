@@ -1,5 +1,6 @@
 /* pg_earthlike.c - land fraction, hypsometry and zonal climate of a planet in one
- * pass over its texels, plus the landmass census (pg_earthlike_census.c); see
+ * pass over its texels, plus the landmass census (pg_earthlike_census.c) and the shelf
+ * widths along the coasts (pg_earthlike_shelf.c); see
  * pg_earthlike.h for the figures and docs/inspect.md for the report they feed.
  *
  * THE PASS. Every texel contributes its fixed-point area (pg_earthlike_geom.c) to
@@ -251,6 +252,7 @@ pg_status pg_earthlike_compute(const pg_planet *p, pg_earthlike *out, pg_error *
     if (st) return st;
     st = pass_figures(p, &g, out, err);
     if (st == PG_OK) st = pg_earthlike_census(p, &g, out, err);
+    if (st == PG_OK) st = pg_earthlike_shelf(p, &g, out, err);
     pg_earthlike_geom_free(&g);
     return st;
 }

@@ -36,4 +36,8 @@ double pg_earthlike_geodetic_lat(const pg_ellipsoid *e, const double dir[3]);
 pg_status pg_earthlike_census(const pg_planet *p, const pg_earthlike_geom *g, pg_earthlike *out,
                               pg_error *err);
 
+/* The shelf width fields of out (pg_earthlike_shelf.c). */
+pg_status pg_earthlike_shelf(const pg_planet *p, const pg_earthlike_geom *g, pg_earthlike *out,
+                             pg_error *err);
+
 #endif
