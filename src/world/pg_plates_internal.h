@@ -39,7 +39,9 @@ enum {
     PG_PLATES_S_SHAPE,
     PG_PLATES_S_RELIEF,
     PG_PLATES_S_AGE,
-    PG_PLATES_S_DETAIL
+    PG_PLATES_S_DETAIL,
+    /* PG_PLATES_S_DETAIL uses streams DETAIL + 4 k, k < 3: later streams start past them */
+    PG_PLATES_S_SHELF = PG_PLATES_S_DETAIL + 12
 };
 
 typedef struct pg_plates_grid {

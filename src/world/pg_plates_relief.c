@@ -12,10 +12,22 @@
  * branch flattens near 6.4 km, deeper than the 5-6 km of Earth's old basins.
  *
  * CONTINENTS. A platform rising from -500 m at the crust boundary to +800 m inland with
- * an e-folding of 300 km (the shelf is the part the sea level floods), plus broad noise
- * of +-700 m (features of about a radian: basins and uplands). Crossing the continent-ocean
- * boundary, each texel is averaged with its 8 neighbours once: at 140 km texels this is the
- * continental slope.
+ * an e-folding of 300 km, plus broad noise of +-700 m (features of about a radian: basins
+ * and uplands).
+ *
+ * SHELVES. Earth's shelves are anything but even: none off the Andes, where the ocean
+ * plate dives under the continent (an active margin), tens of km off most of Africa,
+ * hundreds off Argentina, Siberia and north-west Europe (Harris et al. 2014,
+ * "Geomorphology of the oceans", Marine Geology 352: passive margins' shelves average
+ * 88 km, active margins' 31 km; the Siberian shelf is over 1000 km wide). So the flooded margin is
+ * drawn, not left to the sea level: the continental texels within a width W of the ocean crust sit
+ * at 60-180 m below sea level, W from broad noise (none on about half of the passive margins, up to
+ * 1200 km) and none within a few hundred km of a convergent boundary. The continental slope is the
+ * step from the last continental texel to the first oceanic one: the synthesis guide interpolates
+ * it over one macro texel, and Earth's own material fills in the detail. (Averaging the texels on
+ * both sides of the crust boundary, as before, put every coast inside a ring of slope depths two
+ * macro texels wide, the same round every continent: a light-blue band of even width in the
+ * albedo.)
  *
  * BOUNDARIES. Oceanic crust within ~100 km of a convergent boundary is deepened by up to
  * 2 km (the trench on the subducting side; the overriding side's arc uplift from the
@@ -25,8 +37,9 @@
  * SEA LEVEL. Ocean depths are depths below sea level (that is what Parsons and Sclater
  * fitted), so the ocean floor stays put and the continents float: their common offset is
  * the area-weighted quantile of continental elevations that makes land_fraction of the
- * sphere land (counting oceanic land, arcs and hotspot islands, as already there). After
- * the slope smoothing, a second quantile over the whole field levels it exactly: sorted
+ * sphere land (counting oceanic land, arcs and hotspot islands, as already there; the
+ * shelves are left out and then set below it). A second quantile over the whole field
+ * levels it exactly: sorted
  * by elevation, the level falls midway between the two texels where the area above
  * reaches land_fraction, so no texel sits at 0 and the share is exact to one texel. */
 #include "pg_plates_internal.h"
@@ -38,6 +51,21 @@ double pg_plates_ocean_depth(double age_myr) {
     double a = fmax(0, age_myr);
     if (a < 20) return 2600 + 365 * sqrt(a);
     return 5651 - 2473 * exp(-0.0278 * a);
+}
+
+/* The shelf: how far (km) continental crust is flooded inland of its boundary with
+ * the ocean. Broad noise makes it none on about half of the passive margins and up to
+ * PG_PLATES_SHELF_MAX_KM on the rest; an active margin (near a convergent boundary)
+ * has none. Its depth below sea level: 60-180 m, by the same noise. */
+#define PG_PLATES_SHELF_MAX_KM 1200.0
+
+static double pg_plates_shelf_km(const pg_plates_params *p, const double *d, double conv_km,
+                                 double *depth_m) {
+    double n = pg_plates_fbm(p->seed, PG_PLATES_S_SHELF, d, 3.0, 3);
+    double passive = 1 - exp(-(conv_km / 400) * (conv_km / 400));
+    double f = fmin(1, fmax(0, 2.5 * n + 0.1));
+    *depth_m = 180 - 120 * f;
+    return PG_PLATES_SHELF_MAX_KM * f * passive;
 }
 
 static double pg_plates_raw(const pg_plates_params *p, const pg_plates_grid *g,
@@ -82,29 +110,22 @@ static pg_status pg_plates_quantile(const pg_plates_grid *g, const float *z, con
 /* Continents float: their offset is chosen so that, with the ocean floor fixed below sea
  * level by its age, the land share is met; then the whole field is levelled exactly. */
 static pg_status pg_plates_sea_level(const pg_plates_params *p, const pg_plates_grid *g,
-                                     pg_plates_world *w, float *raw, pg_error *err) {
+                                     pg_plates_world *w, float *raw, const float *shelf,
+                                     uint8_t *sel, pg_error *err) {
     double total = 0, ocean_land = 0, level;
     for (int64_t t = 0; t < g->count; t++) {
         total += g->area[t];
         if (w->crust[t] == PG_PLATES_OCEANIC && raw[t] > 0) ocean_land += g->area[t];
+        sel[t] = w->crust[t] == PG_PLATES_CONTINENTAL && shelf[t] == 0;
     }
-    pg_status st = pg_plates_quantile(g, raw, w->crust, PG_PLATES_CONTINENTAL,
-                                      p->land_fraction * total - ocean_land, &level, err);
+    pg_status st =
+        pg_plates_quantile(g, raw, sel, 1, p->land_fraction * total - ocean_land, &level, err);
     if (st != PG_OK) return st;
+    /* the shelf floods at its own depth below the sea level just found */
     for (int64_t t = 0; t < g->count; t++)
-        if (w->crust[t] == PG_PLATES_CONTINENTAL) raw[t] = (float)(raw[t] - level);
-            /* the continental slope: one 3x3 mean across the crust boundary */
-#pragma omp parallel for schedule(static)
-    for (int64_t t = 0; t < g->count; t++) {
-        int mixed = 0;
-        double sum = raw[t];
-        for (int d = 0; d < 8; d++) {
-            int64_t q = g->nbr[8 * t + d];
-            mixed |= w->crust[q] != w->crust[t];
-            sum += raw[q];
-        }
-        w->elevation_m[t] = mixed ? (float)(sum / 9) : raw[t];
-    }
+        if (w->crust[t] == PG_PLATES_CONTINENTAL)
+            raw[t] = shelf[t] > 0 ? -shelf[t] : (float)(raw[t] - level);
+    memcpy(w->elevation_m, raw, sizeof(float) * (size_t)g->count);
     double fine;
     st = pg_plates_quantile(g, w->elevation_m, NULL, 0, p->land_fraction * total, &fine, err);
     if (st != PG_OK) return st;
@@ -118,10 +139,11 @@ pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, p
                            const pg_plates_state *s, pg_error *err) {
     size_t c = (size_t)g->count;
     float *margin = malloc(sizeof(float) * c), *div = malloc(sizeof(float) * c);
+    float *shelf = malloc(sizeof(float) * c);
     uint8_t *src = malloc(3 * c);
     double(*omega)[3] = malloc(sizeof *omega * (size_t)p->plates);
     pg_status st = PG_OK;
-    if (!margin || !div || !src || !omega) {
+    if (!margin || !div || !shelf || !src || !omega) {
         st = pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for the relief");
         goto done;
     }
@@ -151,11 +173,15 @@ pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, p
         if (sk[j] != PG_OK) st = pg_error_set(err, sk[j], "%s", e[j].msg);
     if (st != PG_OK) goto done;
 #pragma omp parallel for schedule(static)
-    for (int64_t t = 0; t < g->count; t++)
+    for (int64_t t = 0; t < g->count; t++) {
+        double depth, width = pg_plates_shelf_km(p, g->dir + 3 * t, w->convergent_km[t], &depth);
+        shelf[t] = s->crust[t] == PG_PLATES_CONTINENTAL && margin[t] <= width ? (float)depth : 0;
         margin[t] = (float)pg_plates_raw(p, g, s, t, margin[t], w->convergent_km[t], div[t]);
-    st = pg_plates_sea_level(p, g, w, margin, err);
+    }
+    st = pg_plates_sea_level(p, g, w, margin, shelf, src, err);
 done:
     free(margin);
+    free(shelf);
     free(div);
     free(src);
     free(omega);
