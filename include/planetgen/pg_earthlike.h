@@ -94,8 +94,9 @@ typedef struct pg_earthlike {
 
 /* All figures above for planet p. BADINPUT for an empty planet, a face size above
  * 26754 (texel ids must fit 32 bits) or a non-finite height or sea level; NOMEM.
- * Takes about 0.25 s for N = 1024 on 2 cores (0.45 s on one) and about 60 MB of
- * working memory (texel tables, the census's mask and queue). */
+ * Takes about 0.41-0.47 s for N = 1024 on 2 cores (bench_earthlike, with the serial
+ * shelf search; 0.25 s before it) and about 110 MB of working memory (texel tables, the
+ * census's mask and queue, the shelf search's hop counts and queue). */
 pg_status pg_earthlike_compute(const pg_planet *p, pg_earthlike *out, pg_error *err);
 
 /* Wasserstein-1 distances (metres) between the land height distributions and

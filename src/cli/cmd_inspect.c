@@ -236,7 +236,7 @@ static void print_geometry(pg_cli *cli, const pg_realism *P, const pg_realism *E
 }
 
 /* How unequal the shelf is along the coasts: the 90th over the 10th percentile of its
- * width (docs/inspect.md, "Continental shelf"). */
+ * width (docs/inspect.md, "Earth-likeness"). */
 static double shelf_spread(const pg_earthlike *e) {
     return e->shelf_width_p90_km / e->shelf_width_p10_km;
 }

@@ -21,8 +21,10 @@
  * "Geomorphology of the oceans", Marine Geology 352: passive margins' shelves average
  * 88 km, active margins' 31 km; the Siberian shelf is over 1000 km wide). So the flooded margin is
  * drawn, not left to the sea level: the continental texels within a width W of the ocean crust sit
- * at 60-180 m below sea level, W from broad noise (none on about half of the passive margins, up to
- * 1200 km) and none within a few hundred km of a convergent boundary. The continental slope is the
+ * at 60-170 m below sea level, W from broad noise (none on about half of the passive margins, up to
+ * 1200 km), none within about 150 km of a convergent boundary and narrowed out to about 600 km
+ * from it (the first continental texel lies one macro texel, about 140 km, inside the crust
+ * boundary, so a W below that floods nothing). The continental slope is the
  * step from the last continental texel to the first oceanic one: the synthesis guide interpolates
  * it over one macro texel, and Earth's own material fills in the detail. (Averaging the texels on
  * both sides of the crust boundary, as before, put every coast inside a ring of slope depths two
@@ -56,7 +58,8 @@ double pg_plates_ocean_depth(double age_myr) {
 /* The shelf: how far (km) continental crust is flooded inland of its boundary with
  * the ocean. Broad noise makes it none on about half of the passive margins and up to
  * PG_PLATES_SHELF_MAX_KM on the rest; an active margin (near a convergent boundary)
- * has none. Its depth below sea level: 60-180 m, by the same noise. */
+ * has none. Its depth below sea level: 180 - 120 f m by the same noise, 60-170 m where W
+ * reaches a texel. */
 #define PG_PLATES_SHELF_MAX_KM 1200.0
 
 static double pg_plates_shelf_km(const pg_plates_params *p, const double *d, double conv_km,
