@@ -21,6 +21,8 @@
  * good enough for a distribution whose spread spans a factor of ten on Earth. */
 #include "pg_earthlike_internal.h"
 
+#include "pg_array.h"
+
 #include "planetgen/pg_pits.h"
 
 #include <math.h>
@@ -107,15 +109,9 @@ pg_status pg_earthlike_shelf(const pg_planet *p, const pg_earthlike_geom *g, pg_
             out->shelf_closed_texels++;
             continue;
         }
-        if (m == cap) {
-            size_t c2 = cap ? 2 * cap : 4096;
-            double *w2 = realloc(width, c2 * sizeof *w2);
-            if (!w2) {
-                st = pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for the shelf");
-                goto done;
-            }
-            width = w2;
-            cap = c2;
+        if (PG_ARRAY_RESERVE(width, &cap, m + 1, NULL)) {
+            st = pg_error_set(err, PG_ERR_NOMEM, "earthlike: out of memory for the shelf");
+            goto done;
         }
         width[m++] = (double)(best + 1) * texel_width_km(g, id);
     }

@@ -126,9 +126,9 @@ static pg_status pg_plates_sea_level(const pg_plates_params *p, const pg_plates_
     if (st != PG_OK) return st;
     /* the shelf floods at its own depth below the sea level just found */
     for (int64_t t = 0; t < g->count; t++)
-        if (w->crust[t] == PG_PLATES_CONTINENTAL)
-            raw[t] = shelf[t] > 0 ? -shelf[t] : (float)(raw[t] - level);
-    memcpy(w->elevation_m, raw, sizeof(float) * (size_t)g->count);
+        w->elevation_m[t] = w->crust[t] != PG_PLATES_CONTINENTAL ? raw[t]
+                            : shelf[t] > 0                       ? -shelf[t]
+                                                                 : (float)(raw[t] - level);
     double fine;
     st = pg_plates_quantile(g, w->elevation_m, NULL, 0, p->land_fraction * total, &fine, err);
     if (st != PG_OK) return st;
