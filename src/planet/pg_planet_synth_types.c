@@ -30,7 +30,7 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < CHUNKS; k++)
         for (size_t i = ne * k / CHUNKS; i < ne * (k + 1) / CHUNKS; i++)
-            at[k][c->etype[i]]++;
+            if (c->etype[i] < PG_TYPE_COUNT) at[k][c->etype[i]]++; /* not PG_TYPE_EXCLUDED */
     for (int t = 0; t < PG_TYPE_COUNT; t++) {
         size_t sum = 0;
         for (int k = 0; k < CHUNKS; k++) {
@@ -46,6 +46,7 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
     for (int k = 0; k < CHUNKS; k++)
         for (size_t i = ne * k / CHUNKS; i < ne * (k + 1) / CHUNKS; i++) {
             int t = c->etype[i];
+            if (t == PG_TYPE_EXCLUDED) continue;
             c->valid[t][at[k][t]++] =
                 pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
         }

@@ -20,6 +20,16 @@
  * snow = ice (a frozen world: land ice sheets, sea under sea ice);
  * grassland = grass + forest + ocean.
  *
+ * INLAND WATER. Blue Marble draws lakes near black (Victoria, Tanganyika, Baikal, Ladoga,
+ * the Great Lakes: every channel at most 20 of 255) where the relief holds their surface
+ * above sea level. The synthesis classified them forest or grass and copied them onto a
+ * new planet's forests as black blobs on ground whose height has no lake (the previews of
+ * seed 1 showed several, each a few tens of kilometres wide). pg_types_exemplar gives such
+ * texels (height above sea level, max channel <= PG_TYPES_LAKE_MAX), and those within
+ * PG_TYPES_LAKE_RIM texels of them on their face (the JPEG's dark rims; ice excepted), the type
+ * PG_TYPE_EXCLUDED, which no mask allows, so wherever types are in use the synthesis's
+ * fix-up replaces them. pg_types_classify, which the report also uses, is unchanged.
+ *
  * TYPE MAPS are equirectangular images of type colours (pg_types_colour), plus black
  * for "any type"; a pixel within 24 per channel of a colour names it. */
 #include "planetgen/pg_types.h"
@@ -27,6 +37,7 @@
 #include "planetgen/pg_guide.h"
 #include "planetgen/pg_image.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -57,13 +68,49 @@ int pg_types_classify(const uint8_t rgb[3], float height_m, float sea_level) {
     return PG_TYPE_GRASS;
 }
 
+static bool is_lake(const uint8_t rgb[3], float height_m, float sea_level) {
+    return height_m > sea_level && rgb[0] <= PG_TYPES_LAKE_MAX && rgb[1] <= PG_TYPES_LAKE_MAX &&
+           rgb[2] <= PG_TYPES_LAKE_MAX;
+}
+
+/* Row y of face f in near: 1 where a lake texel lies within PG_TYPES_LAKE_RIM along the
+ * row of face f (the first half of a separable square dilation). */
+static void lake_row(const pg_synth_exemplar *ex, int f, int y, uint8_t *near) {
+    const int E = ex->face_size, R = PG_TYPES_LAKE_RIM;
+    const size_t row = ((size_t)f * E + (size_t)y) * E;
+    int last = -2 * R - 2; /* the last lake texel seen */
+    for (int x = 0; x < E + R; x++) {
+        if (x < E &&
+            is_lake(ex->albedo + (row + (size_t)x) * 3, ex->height[row + (size_t)x], ex->sea_level))
+            last = x;
+        if (x - R >= 0) near[row + (size_t)(x - R)] = x - last <= 2 * R;
+    }
+}
+
 uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex) {
-    size_t n = (size_t)ex->nfaces * ex->face_size * ex->face_size;
-    uint8_t *t = malloc(n);
-    if (!t) return NULL;
+    const int E = ex->face_size, R = PG_TYPES_LAKE_RIM;
+    size_t n = (size_t)ex->nfaces * E * E;
+    uint8_t *t = malloc(n), *near = malloc(n);
+    if (!t || !near) return free(t), free(near), NULL;
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++)
         t[i] = (uint8_t)pg_types_classify(ex->albedo + i * 3, ex->height[i], ex->sea_level);
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < ex->nfaces * E; k++)
+        lake_row(ex, k / E, k % E, near);
+        /* the columns: a texel is excluded when a row within R of it has a lake within R */
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < ex->nfaces * E; k++) {
+        const int f = k / E, y = k % E;
+        for (int dy = -R; dy <= R; dy++) {
+            if (y + dy < 0 || y + dy >= E) continue;
+            const uint8_t *src = near + ((size_t)f * E + (size_t)(y + dy)) * E;
+            uint8_t *dst = t + ((size_t)f * E + (size_t)y) * E;
+            for (int x = 0; x < E; x++) /* ice is never dark: a rim keeps it */
+                if (src[x] && dst[x] != PG_TYPE_ICE) dst[x] = (uint8_t)PG_TYPE_EXCLUDED;
+        }
+    }
+    free(near);
     return t;
 }
 
