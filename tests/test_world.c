@@ -12,7 +12,8 @@
  *  - guidance through the library: a two-zone macro world (one hemisphere cold, the other
  *    hot) gets at least 90% of its material from exemplar texels of the matching zone of
  *    Earth's own climate (the same climate model on Earth's relief), with the world
- *    sampled on the cube and with equirectangular maps;
+ *    sampled on the cube and with equirectangular maps, and no land texel as dark as the
+ *    exemplar's lakes (at most 1e-4 of them);
  *  - sea ice (pg_sea_ice_apply) on an ocean planet whose world runs from +25 deg C to
  *    -20: the cold ocean is covered (>= 90% of texels below -16 deg C mostly ice, mean
  *    luma >= 0.6), the land and the warm ocean are untouched bit for bit, the iced share
@@ -337,9 +338,9 @@ static void two_zone_guidance(bool equirect, uint64_t seed) {
     assert_true(fc >= 0.9);
     assert_true(fh >= 0.9);
     /* Both zones are land, and the exemplar's lakes (near black on Blue Marble) are not
-     * copied onto it: the share of land texels as dark as a lake stays below 1e-4, where
-     * taiga and rainforest with the lakes allowed gave 0.0012 for seed 5 (pg_types.c, "Inland
-     * water"). */
+     * copied onto it: the share of land texels as dark as a lake is at most 1e-4. With the
+     * lakes allowed, the hot zone's forest took tropical lakes, 0.0012 of all the land
+     * for seed 5 (pg_types.c, "Inland water"; the cold zone allows only ice). */
     const float dark = (PG_TYPES_LAKE_MAX + 0.5f) / 255.0f;
     size_t land = 0, black = 0;
     for (int f = 0; f < 6; f++)

@@ -18,7 +18,8 @@
  *  - guide: a grey elevation sketch resampled onto every level is blended into the
  *    reconstructed heights after every correction pass, R <- w G + (1 - w) R, with w
  *    halving at each finer level (Scott & Dodgson 2021 §4.2, exponential weighting).
- *  - types: every exemplar texel is classified (pg_types_classify); an allowed-type
+ *  - types: every exemplar texel is classified (pg_types_exemplar: pg_types_classify,
+ *    with inland water and its rim excluded from every mask); an allowed-type
  *    mask per output texel (a type map or a preset) rejects disallowed candidates
  *    after each sub-pass: a disallowed texel takes the first allowed coherent
  *    candidate of its neighbours, else a hashed draw among the valid exemplar texels.

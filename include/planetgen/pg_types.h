@@ -26,12 +26,13 @@ typedef enum pg_types_id {
 #define PG_TYPES_ALL ((uint8_t)((1u << PG_TYPE_COUNT) - 1))
 
 /* pg_types_exemplar's type for exemplar texels that no mask allows: inland water and
- * its rim (pg_types.c, "Inland water"). Never returned by pg_types_classify. */
+ * its rim (pg_types.c, "Inland water"). Never returned by pg_types_classify. Masks are
+ * read through PG_TYPES_ALL, so even a mask with bit 6 set does not allow it. */
 #define PG_TYPE_EXCLUDED ((int)PG_TYPE_COUNT)
 /* Inland water: a texel above sea level whose every sRGB channel is at most this. */
 #define PG_TYPES_LAKE_MAX 20
-/* Texels round inland water (on its face, in either axis) that are excluded with it,
- * unless they are ice. */
+/* The rim excluded with inland water: the square of this many texels each way round a
+ * lake texel, on its face, except ice. */
 #define PG_TYPES_LAKE_RIM 2
 
 /* "ocean", "ice", "desert", "grass", "forest", "mountain". */
@@ -44,8 +45,9 @@ void pg_types_colour(int type, uint8_t rgb[3]);
 int pg_types_classify(const uint8_t rgb[3], float height_m, float sea_level);
 
 /* Type of every texel of a prepared exemplar (nfaces*E*E bytes; caller frees):
- * pg_types_classify's, or PG_TYPE_EXCLUDED for inland water and the texels within
- * PG_TYPES_LAKE_RIM of it on its face that is not ice. NULL when out of memory. */
+ * pg_types_classify's, or PG_TYPE_EXCLUDED for inland water and for the texels other
+ * than ice within PG_TYPES_LAKE_RIM of it (each axis) on its face. NULL when out of
+ * memory. */
 uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex);
 
 /* Allowed-type mask of a preset: "earth" (all), "desert", "snow", "grassland".

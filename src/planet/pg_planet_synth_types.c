@@ -30,7 +30,7 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < CHUNKS; k++)
         for (size_t i = ne * k / CHUNKS; i < ne * (k + 1) / CHUNKS; i++)
-            if (c->etype[i] < PG_TYPE_COUNT) at[k][c->etype[i]]++; /* not PG_TYPE_EXCLUDED */
+            if (c->etype[i] != PG_TYPE_EXCLUDED) at[k][c->etype[i]]++;
     for (int t = 0; t < PG_TYPE_COUNT; t++) {
         size_t sum = 0;
         for (int k = 0; k < CHUNKS; k++) {
@@ -120,7 +120,7 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
 #define TYPES_AHEAD 8
 
 static bool allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
-    return (m >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
+    return ((m & PG_TYPES_ALL) >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
 }
 
 /* The climate constraint of layout world: the exemplar texel q's own annual mean

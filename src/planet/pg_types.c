@@ -22,13 +22,16 @@
  *
  * INLAND WATER. Blue Marble draws lakes near black (Victoria, Tanganyika, Baikal, Ladoga,
  * the Great Lakes: every channel at most 20 of 255) where the relief holds their surface
- * above sea level. The synthesis classified them forest or grass and copied them onto a
- * new planet's forests as black blobs on ground whose height has no lake (the previews of
- * seed 1 showed several, each a few tens of kilometres wide). pg_types_exemplar gives such
- * texels (height above sea level, max channel <= PG_TYPES_LAKE_MAX), and those within
- * PG_TYPES_LAKE_RIM texels of them on their face (the JPEG's dark rims; ice excepted), the type
- * PG_TYPE_EXCLUDED, which no mask allows, so wherever types are in use the synthesis's
- * fix-up replaces them. pg_types_classify, which the report also uses, is unchanged.
+ * above sea level. The rule above calls them forest or grass (mountain above 2500 m), and
+ * the synthesis copied them onto a new planet's forests as black blobs on ground whose
+ * height has no lake (the previews of seed 1 showed several, each a few tens of
+ * kilometres wide). pg_types_exemplar gives such texels (height above sea level, every
+ * channel <= PG_TYPES_LAKE_MAX), and the texels of the (2 PG_TYPES_LAKE_RIM + 1)^2 square
+ * round each on its face that are not ice (the JPEG's dark rims), the type
+ * PG_TYPE_EXCLUDED, which no mask allows, so wherever types are in use (layout world, a
+ * preset, a type map) the synthesis's fix-up replaces them. Without types (layouts earth
+ * and free with neither) lakes are copied as before. pg_types_classify, which the report
+ * also uses, is unchanged.
  *
  * TYPE MAPS are equirectangular images of type colours (pg_types_colour), plus black
  * for "any type"; a pixel within 24 per channel of a colour names it. */
@@ -91,7 +94,10 @@ uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex) {
     const int E = ex->face_size, R = PG_TYPES_LAKE_RIM;
     size_t n = (size_t)ex->nfaces * E * E;
     uint8_t *t = malloc(n), *near = malloc(n);
-    if (!t || !near) return free(t), free(near), NULL;
+    if (!t || !near) {
+        free(t), free(near);
+        return NULL;
+    }
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++)
         t[i] = (uint8_t)pg_types_classify(ex->albedo + i * 3, ex->height[i], ex->sea_level);
