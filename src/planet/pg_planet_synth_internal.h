@@ -140,6 +140,12 @@ static inline uint8_t pg_ps_mask_at(const pg_ps_ctx *c, int r, int f, long x, lo
     return c->mask[((size_t)f * r + (size_t)y) * r + (size_t)x];
 }
 
+/* Whether mask m allows exemplar texel q's type. The mask is read through PG_TYPES_ALL,
+ * so no mask allows PG_TYPE_EXCLUDED (pg_types.h). */
+static inline bool pg_ps_type_allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
+    return ((m & PG_TYPES_ALL) >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
+}
+
 /* --------------------------- pg_planet_synth_level.c --------------------------- */
 
 pg_ps_window pg_ps_level_window(const pg_ps_ctx *c, int scale, int r);

@@ -119,10 +119,6 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
 /* How many texels of the class ahead the fix-up's check prefetches its type. */
 #define TYPES_AHEAD 8
 
-static bool allowed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
-    return ((m & PG_TYPES_ALL) >> c->etype[pg_synth_texel(c->ex, q)]) & 1;
-}
-
 /* The climate constraint of layout world: the exemplar texel q's own annual mean
  * temperature (its cell of the exemplar's coarse climate, pg_planet_synth_world.c) lies
  * within PS_CLIMATE_K of the world's at the texel (tt, whole degrees C). Always true
@@ -192,7 +188,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
             const int tt =
                 c->ttemp ? c->ttemp[((size_t)v->face * r + (size_t)gy) * r + (size_t)gx] : 0;
-            const bool type_ok = allowed(c, m, v->S[i]);
+            const bool type_ok = pg_ps_type_allowed(c, m, v->S[i]);
             if (type_ok && climate_ok(c, tt, v->S[i])) continue;
             float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
             /* The 16 candidates: each is a few random reads (its type, its valid-list
@@ -223,7 +219,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             uint32_t bq = 0, bq_t = 0;
             float bv = 0, bv_t = 0;
             for (int k = 0; k < 16; k++) {
-                if (k < 8 && !allowed(c, m, q[k])) continue;
+                if (k < 8 && !pg_ps_type_allowed(c, m, q[k])) continue;
                 const float w = k < 8 ? 1 : 2;
                 float d = w * fabsf(pg_synth_level_height(c->ex, scale, q[k]) + vq[k] - want);
                 if (d < best_t) best_t = d, bq_t = q[k], bv_t = vq[k];

@@ -104,9 +104,9 @@ uint8_t *pg_types_exemplar(const pg_synth_exemplar *ex) {
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < ex->nfaces * E; k++)
         lake_row(ex, k / E, k % E, near);
-        /* the columns: a texel is excluded when a row within R of it has a lake within R */
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < ex->nfaces * E; k++) {
+        /* the columns: a texel is excluded when a row within R of it has a lake within R */
         const int f = k / E, y = k % E;
         for (int dy = -R; dy <= R; dy++) {
             if (y + dy < 0 || y + dy >= E) continue;
