@@ -42,6 +42,7 @@ static void ctx_free(pg_ps_ctx *c) {
     free(c->bm.src);
     pg_ps_rows_free(c->bm.orient, &c->bm.sorient);
     free(c->etype);
+    free(c->eblock);
     for (int t = 0; t < PG_TYPE_COUNT; t++)
         free(c->valid[t]);
     pg_ps_rows_free(c->mask, &c->smask);

@@ -51,6 +51,17 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
                 pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
         }
     free(at);
+    /* the types of each block: one row of blocks per iteration */
+    const int nb = E >> PS_TYPE_BLOCK_SHIFT;
+    c->eblock = calloc((size_t)ex->nfaces * nb * nb, 1);
+    if (!c->eblock) return pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
+#pragma omp parallel for schedule(static)
+    for (int fb = 0; fb < ex->nfaces * nb; fb++)
+        for (int y = 0; y < 1 << PS_TYPE_BLOCK_SHIFT; y++) {
+            const uint8_t *row = c->etype + ((size_t)fb * (1 << PS_TYPE_BLOCK_SHIFT) + y) * E;
+            for (int x = 0; x < E; x++)
+                c->eblock[(size_t)fb * nb + (x >> PS_TYPE_BLOCK_SHIFT)] |= (uint8_t)(1u << row[x]);
+        }
     /* every mask in use must leave valid texels */
     uint8_t masks = 0;
     for (int t = 0; t < PG_TYPE_COUNT; t++)
@@ -128,9 +139,11 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
 
 static bool climate_ok(const pg_ps_ctx *c, int tt, uint32_t q) {
     if (!c->ttemp || !c->world_t) return true;
-    const int E = c->ex->face_size, b = E / PS_CLIMATE_N;
+    /* the cell's edge, E / PS_CLIMATE_N texels, is a power of two: a shift, where two
+     * divisions per checked texel were */
+    const int sh = __builtin_ctz((unsigned)c->ex->face_size) - __builtin_ctz(PS_CLIMATE_N);
     const int f = pg_synth_face(q), u = pg_synth_u(q), v = pg_synth_v(q);
-    const float te = c->world_t[((size_t)f * PS_CLIMATE_N + v / b) * PS_CLIMATE_N + u / b];
+    const float te = c->world_t[((size_t)f * PS_CLIMATE_N + (v >> sh)) * PS_CLIMATE_N + (u >> sh)];
     return fabsf(te - (float)tt) <= PS_CLIMATE_K;
 }
 
@@ -183,12 +196,15 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             long gx = v->gx + x;
             ptrdiff_t i = (ptrdiff_t)y * v->stride + x;
             /* the exemplar types of the texels a few steps on: random reads */
-            if (x + 2 * TYPES_AHEAD < v->w)
-                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, v->S[i + 2 * TYPES_AHEAD]));
             uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
+            if (x + 2 * TYPES_AHEAD < v->w) {
+                const uint32_t qa = v->S[i + 2 * TYPES_AHEAD];
+                if (pg_ps_type_block(c, qa) & (uint8_t) ~(m & PG_TYPES_ALL))
+                    __builtin_prefetch(c->etype + pg_synth_texel(c->ex, qa));
+            }
             const int tt =
                 c->ttemp ? c->ttemp[((size_t)v->face * r + (size_t)gy) * r + (size_t)gx] : 0;
-            const bool type_ok = pg_ps_type_allowed(c, m, v->S[i]);
+            const bool type_ok = pg_ps_type_allowed_fast(c, m, v->S[i]);
             if (type_ok && climate_ok(c, tt, v->S[i])) continue;
             float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
             /* The 16 candidates: each is a few random reads (its type, its valid-list
@@ -219,7 +235,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             uint32_t bq = 0, bq_t = 0;
             float bv = 0, bv_t = 0;
             for (int k = 0; k < 16; k++) {
-                if (k < 8 && !pg_ps_type_allowed(c, m, q[k])) continue;
+                if (k < 8 && !pg_ps_type_allowed_fast(c, m, q[k])) continue;
                 const float w = k < 8 ? 1 : 2;
                 float d = w * fabsf(pg_synth_level_height(c->ex, scale, q[k]) + vq[k] - want);
                 if (d < best_t) best_t = d, bq_t = q[k], bv_t = vq[k];
