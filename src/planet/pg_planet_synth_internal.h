@@ -83,7 +83,8 @@ typedef struct pg_ps_ctx {
     uint8_t *eblock;
     uint32_t *valid[PG_TYPE_COUNT];
     size_t nvalid[PG_TYPE_COUNT];
-    uint8_t *mask; /* per level texel (6 r^2) when a type map is given */
+    size_t nallowed[PG_TYPES_ALL + 1]; /* per mask: the valid texels of its types */
+    uint8_t *mask;                     /* per level texel (6 r^2) when a type map is given */
     /* layout world's climate constraint: the world's temperature per level texel (whole
      * degrees C) and the exemplar texels' own (world_t below) */
     int8_t *ttemp;

@@ -51,6 +51,9 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
                 pg_synth_pack((int)(i / ((size_t)E * E)), (int)(i % E), (int)(i / E % E));
         }
     free(at);
+    for (int m = 0; m <= PG_TYPES_ALL; m++)
+        for (int t = 0; t < PG_TYPE_COUNT; t++)
+            if ((m >> t) & 1) c->nallowed[m] += c->nvalid[t];
     /* the types of each block: one row of blocks per iteration */
     const int nb = E >> PS_TYPE_BLOCK_SHIFT;
     c->eblock = calloc((size_t)ex->nfaces * nb * nb, 1);
@@ -150,11 +153,11 @@ static bool climate_ok(const pg_ps_ctx *c, int tt, uint32_t q) {
 /* Where a hashed draw among the exemplar texels whose type m allows lands: the address
  * of its entry in the valid lists, or NULL when m allows no exemplar texel. */
 static const uint32_t *draw_slot(const pg_ps_ctx *c, uint8_t m, uint32_t h) {
-    size_t total = 0;
-    for (int t = 0; t < PG_TYPE_COUNT; t++)
-        if ((m >> t) & 1) total += c->nvalid[t];
+    m &= PG_TYPES_ALL;
+    const size_t total = c->nallowed[m];
     if (!total) return NULL;
-    size_t k = (size_t)h % total;
+    /* h < 2^32 and total <= the exemplar's texels < 2^32: a 32-bit division, h % total */
+    size_t k = (uint32_t)h % (uint32_t)total;
     for (int t = 0; t < PG_TYPE_COUNT; t++) {
         if (!((m >> t) & 1)) continue;
         if (k < c->nvalid[t]) return &c->valid[t][k];

@@ -194,21 +194,31 @@ uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y) {
 }
 
 /* The guide, the type mask and the temperature of level r from the macro world, in one
- * pass over the rows this process owns (pg_planet_world_level_climate); whichever the
- * params give as maps of their own is left to pg_ps_guide_level and pg_ps_types_level. */
+ * pass over the rows this process owns (pg_planet_world_level_climate), one call for
+ * each run of consecutive owned rows (the whole planet in one without MPI: each call
+ * interleaves the world's fields afresh); whichever the params give as maps of their
+ * own is left to pg_ps_guide_level and pg_ps_types_level. */
 pg_status pg_ps_world_level(pg_ps_ctx *c, int r, pg_error *err) {
     const bool guide = pg_ps_world_guide(c->p), types = pg_ps_world_types(c->p),
                temp = c->ttemp != NULL;
+    if (!guide && !types && !temp) return PG_OK;
     pg_status st = PG_OK;
-    for (int f = 0; f < 6 && !st && (guide || types || temp); f++) {
-        int y0, y1;
-        pg_ps_owned_rows(c, r, f, &y0, &y1);
-        const size_t o = ((size_t)f * r + y0) * r;
-        if (y0 < y1)
-            st = pg_planet_world_level_climate(c->p->world, r, (int64_t)f * r + y0,
-                                               (int64_t)f * r + y1, guide ? c->guide + o : NULL,
-                                               types ? c->mask + o : NULL,
-                                               temp ? c->ttemp + o : NULL, err);
+    int64_t run0 = -1, run1 = -1; /* the run of global rows [run0, run1) not yet done */
+    for (int f = 0; f <= 6 && !st; f++) {
+        int y0 = 0, y1 = 0;
+        if (f < 6) pg_ps_owned_rows(c, r, f, &y0, &y1);
+        const int64_t a = (int64_t)f * r + y0, b = (int64_t)f * r + y1;
+        if (f < 6 && y0 < y1 && a == run1) { /* continues the run */
+            run1 = b;
+            continue;
+        }
+        if (run0 < run1) {
+            const size_t o = (size_t)run0 * r;
+            st = pg_planet_world_level_climate(
+                c->p->world, r, run0, run1, guide ? c->guide + o : NULL, types ? c->mask + o : NULL,
+                temp ? c->ttemp + o : NULL, err);
+        }
+        run0 = a, run1 = y0 < y1 ? b : a;
     }
     return st;
 }

@@ -145,6 +145,7 @@ pg_status pg_planet_world_level_climate(const pg_planet_world *w, int64_t r, int
     const size_t nw = (size_t)6 * n * n;
     float *hpt = malloc(nw * 3 * sizeof *hpt);
     if (!hpt) return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
+#pragma omp parallel for schedule(static)
     for (size_t i = 0; i < nw; i++) {
         hpt[3 * i] = w->elevation_m[i];
         hpt[3 * i + 1] = w->temperature_c[i];
