@@ -171,6 +171,55 @@ static const void *height_addr(const pg_ps_ctx *c, int scale, uint32_t q) {
     return c->ex->app[scale] + pg_synth_texel(c->ex, q) * PG_SYNTH_MAX_DIMS;
 }
 
+/* One texel the fix-up replaces, between the stages of fixup_batch. */
+typedef struct fix_texel {
+    ptrdiff_t i;  /* in the view */
+    uint8_t m;    /* its mask */
+    bool type_ok; /* its type is allowed (only the climate failed) */
+    int tt;       /* the world's temperature there */
+    uint32_t q[16];
+    float vq[16];
+    const uint32_t *slot[16];
+} fix_texel;
+
+/* How many failing texels of a row the fix-up gathers before it weighs them. */
+#define FIX_BATCH 32
+
+/* Weighs the candidates of n gathered texels and replaces each (pg_ps_types_fixup).
+ * Their valid-list entries were prefetched when they were gathered; here they are read
+ * and the candidates' heights prefetched for all n, then all n are weighed: the random
+ * reads of many texels overlap. Each texel reads only its neighbours of the other
+ * classes, so the order in which the texels of a class are replaced changes nothing. */
+static void fixup_batch(const pg_ps_ctx *c, int scale, pg_synth_view *v, fix_texel *b, int n) {
+    for (int j = 0; j < n; j++)
+        for (int k = 8; k < 16; k++) {
+            b[j].q[k] = b[j].slot[k] ? *b[j].slot[k] : 0;
+            __builtin_prefetch(height_addr(c, scale, b[j].q[k]));
+        }
+    for (int j = 0; j < n; j++) {
+        const fix_texel *t = &b[j];
+        const ptrdiff_t i = t->i;
+        const float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
+        float best = INFINITY, best_t = INFINITY; /* both constraints; the type alone */
+        uint32_t bq = 0, bq_t = 0;
+        float bv = 0, bv_t = 0;
+        for (int k = 0; k < 16; k++) {
+            if (k < 8 && !pg_ps_type_allowed_fast(c, t->m, t->q[k])) continue;
+            const float w = k < 8 ? 1 : 2;
+            float d = w * fabsf(pg_synth_level_height(c->ex, scale, t->q[k]) + t->vq[k] - want);
+            if (d < best_t) best_t = d, bq_t = t->q[k], bv_t = t->vq[k];
+            if (d < best && climate_ok(c, t->tt, t->q[k])) best = d, bq = t->q[k], bv = t->vq[k];
+        }
+        if (best < INFINITY) {
+            v->S[i] = bq;
+            v->V[i] = bv;
+        } else if (!t->type_ok) {
+            v->S[i] = bq_t;
+            v->V[i] = bv_t;
+        }
+    }
+}
+
 /* Gain et al.'s type constraint, applied to the texels of one parity class of a view
  * after their correction. A disallowed texel is replaced by the allowed candidate
  * closest in level height to what it had (so the terrain keeps its shape): the
@@ -183,7 +232,13 @@ static const void *height_addr(const pg_ps_ctx *c, int scale, uint32_t q) {
  * or colder than the world there is replaced the same way by a candidate that meets
  * both constraints. When none of the 16 does, a texel of an allowed type stays as it
  * is and one of a disallowed type takes the best of the allowed type alone, as before:
- * a world warmer or colder than anything on Earth keeps the type constraint. */
+ * a world warmer or colder than anything on Earth keeps the type constraint.
+ *
+ * Each candidate is a chain of random reads (a draw's valid-list entry, then its type
+ * and height), about a microsecond when taken one texel at a time. So the scan gathers
+ * up to FIX_BATCH failing texels of a row, computing their candidates' addresses and
+ * prefetching them, and fixup_batch then weighs the batch in the same fixed order per
+ * texel: the same result, with the misses of many texels in flight at once. */
 void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view *v) {
     static const int nb[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -194,6 +249,8 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
     for (int y = 0; y < v->h; y++) {
         long gy = v->gy + y;
         if ((int)(gy & 1) != py) continue;
+        fix_texel batch[FIX_BATCH];
+        int n = 0;
         const int x0 = (int)((v->gx & 1) != px);
         for (int x = x0; x < v->w; x += 2) {
             long gx = v->gx + x;
@@ -209,48 +266,25 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                 c->ttemp ? c->ttemp[((size_t)v->face * r + (size_t)gy) * r + (size_t)gx] : 0;
             const bool type_ok = pg_ps_type_allowed_fast(c, m, v->S[i]);
             if (type_ok && climate_ok(c, tt, v->S[i])) continue;
-            float want = pg_synth_level_height(c->ex, scale, v->S[i]) + v->V[i];
-            /* The 16 candidates: each is a few random reads (its type, its valid-list
-             * entry, its height), so all their addresses are gathered and prefetched
-             * first and the candidates are then weighed in their fixed order, as if
-             * one by one; the misses overlap instead of queueing. */
-            uint32_t q[16];
-            float vq[16];
-            const uint32_t *slot[16];
+            /* gather: the 16 candidates' addresses, prefetched */
+            fix_texel *t = &batch[n++];
+            t->i = i, t->m = m, t->type_ok = type_ok, t->tt = tt;
+            __builtin_prefetch(height_addr(c, scale, v->S[i]));
             for (int k = 0; k < 8; k++) {
                 int ex = nb[k][0], ey = nb[k][1];
                 ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
-                q[k] = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
-                vq[k] = v->V[j];
-                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, q[k]));
-                __builtin_prefetch(height_addr(c, scale, q[k]));
+                t->q[k] = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
+                t->vq[k] = v->V[j];
+                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, t->q[k]));
+                __builtin_prefetch(height_addr(c, scale, t->q[k]));
             }
             for (int k = 8; k < 16; k++) {
-                slot[k] = draw_slot(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
-                vq[k] = 0;
-                if (slot[k]) __builtin_prefetch(slot[k]);
+                t->slot[k] = draw_slot(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
+                t->vq[k] = 0;
+                if (t->slot[k]) __builtin_prefetch(t->slot[k]);
             }
-            for (int k = 8; k < 16; k++) {
-                q[k] = slot[k] ? *slot[k] : 0;
-                __builtin_prefetch(height_addr(c, scale, q[k]));
-            }
-            float best = INFINITY, best_t = INFINITY; /* both constraints; the type alone */
-            uint32_t bq = 0, bq_t = 0;
-            float bv = 0, bv_t = 0;
-            for (int k = 0; k < 16; k++) {
-                if (k < 8 && !pg_ps_type_allowed_fast(c, m, q[k])) continue;
-                const float w = k < 8 ? 1 : 2;
-                float d = w * fabsf(pg_synth_level_height(c->ex, scale, q[k]) + vq[k] - want);
-                if (d < best_t) best_t = d, bq_t = q[k], bv_t = vq[k];
-                if (d < best && climate_ok(c, tt, q[k])) best = d, bq = q[k], bv = vq[k];
-            }
-            if (best < INFINITY) {
-                v->S[i] = bq;
-                v->V[i] = bv;
-            } else if (!type_ok) {
-                v->S[i] = bq_t;
-                v->V[i] = bv_t;
-            }
+            if (n == FIX_BATCH) fixup_batch(c, scale, v, batch, n), n = 0;
         }
+        fixup_batch(c, scale, v, batch, n);
     }
 }
