@@ -1,10 +1,11 @@
 /* test_synth_engine.c - properties of the synthesis engine on synthetic exemplars:
  * exact reproduction with jitter 0 on a toroidal exemplar, bit-identical results for
  * 1 and 2 threads and any tiling, the pass hook (for pit removal) editing V, the cache,
- * and bad input (constant exemplar, bad size, bad jitter). */
+ * and bad input (constant exemplar, bad size, bad jitter, a toroidal exemplar for a planet). */
 #include "pg_test.h"
 
 #include "pg_synth_internal.h"
+#include "planetgen/pg_planet_synth.h"
 
 #include <math.h>
 #include <omp.h>
@@ -198,6 +199,17 @@ static void test_bad_parameters(void **state) {
     p.jitter = 1.5;
     assert_int_equal(pg_synth_flat(ex, 64, &p, NULL, NULL, &r, &err), PG_ERR_BADINPUT);
     assert_non_null(strstr(err.msg, "[0, 1]"));
+    /* a planet needs a cube exemplar: the planet synthesis draws and reads faces 0..5,
+     * which a toroidal tile (one face) does not have */
+    pg_error_clear(&err);
+    pg_planet_synth_params pp;
+    pg_planet_synth_params_default(&pp);
+    pp.tiles = 1;
+    pp.tile_size = TS;
+    pp.layout = PG_LAYOUT_FREE;
+    pg_planet planet;
+    assert_int_equal(pg_planet_synth_run(ex, &pp, &planet, NULL, NULL, &err), PG_ERR_BADINPUT);
+    assert_non_null(strstr(err.msg, "cube"));
     pg_synth_exemplar_free(ex);
 }
 

@@ -92,6 +92,12 @@ double pg_planet_synth_bytes(int tiles, int tile_size, const pg_planet_synth_par
 pg_status pg_planet_synth_check(const pg_synth_exemplar *ex, const pg_planet_synth_params *p,
                                 pg_error *err) {
     if (!ex) return pg_error_set(err, PG_ERR_BADINPUT, "planet synthesis: no exemplar");
+    /* the planet's faces draw and read exemplar faces 0..5 */
+    if (ex->nfaces != 6)
+        return pg_error_set(err, PG_ERR_BADINPUT,
+                            "planet synthesis: the exemplar must be a cube of 6 faces, not a "
+                            "toroidal tile of %d",
+                            ex->nfaces);
     if (p->tiles < 1 || p->tiles > 4096)
         return pg_error_set(err, PG_ERR_BADINPUT, "--tiles %d: must be in 1..4096", p->tiles);
     int S = p->tile_size, need = 1 << pg_ps_top_scale(ex);
