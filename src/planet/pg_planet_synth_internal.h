@@ -77,9 +77,10 @@ typedef struct pg_ps_ctx {
     uint8_t *etype; /* exemplar texel types */
     /* The types present in each block of 2^PS_TYPE_BLOCK_SHIFT x 2^PS_TYPE_BLOCK_SHIFT
      * exemplar texels, one bit each (PG_TYPE_EXCLUDED's too). Where a mask allows every
-     * type of the block, a texel's check needs no random read of etype: so for about
-     * 98% of the fix-up's checks on the default planet, whose table (6 (E/4)^2 bytes,
-     * 384 KiB) stays in cache where etype (6 MiB) does not. */
+     * type of the block, a texel's check needs no random read of etype: so for 98% of
+     * the fix-up's checks on seed 7's default planet (the share depends on the masks).
+     * The table (6 (E/4)^2 bytes, 384 KiB at E = 1024) stays in cache where etype
+     * (6 MiB) does not. */
     uint8_t *eblock;
     uint32_t *valid[PG_TYPE_COUNT];
     size_t nvalid[PG_TYPE_COUNT];

@@ -142,7 +142,8 @@ pg_status pg_ps_types_level(pg_ps_ctx *c, int r, int ts, pg_error *err) {
 
 static bool climate_ok(const pg_ps_ctx *c, int tt, uint32_t q) {
     if (!c->ttemp || !c->world_t) return true;
-    /* the cell's edge, E / PS_CLIMATE_N texels, is a power of two: a shift, where two
+    /* the cell's edge, E / PS_CLIMATE_N texels, is a power of two (E >= 64: world_t
+     * exists only where pg_planet_world_exemplar_climate accepted E): a shift, where two
      * divisions per checked texel were */
     const int sh = __builtin_ctz((unsigned)c->ex->face_size) - __builtin_ctz(PS_CLIMATE_N);
     const int f = pg_synth_face(q), u = pg_synth_u(q), v = pg_synth_v(q);
@@ -188,8 +189,9 @@ typedef struct fix_texel {
 /* Weighs the candidates of n gathered texels and replaces each (pg_ps_types_fixup).
  * Their valid-list entries were prefetched when they were gathered; here they are read
  * and the candidates' heights prefetched for all n, then all n are weighed: the random
- * reads of many texels overlap. Each texel reads only its neighbours of the other
- * classes, so the order in which the texels of a class are replaced changes nothing. */
+ * reads of many texels overlap. Each texel reads only itself and its neighbours of the
+ * other classes, so the order in which the texels of a class are replaced changes
+ * nothing. */
 static void fixup_batch(const pg_ps_ctx *c, int scale, pg_synth_view *v, fix_texel *b, int n) {
     for (int j = 0; j < n; j++)
         for (int k = 8; k < 16; k++) {
@@ -234,8 +236,9 @@ static void fixup_batch(const pg_ps_ctx *c, int scale, pg_synth_view *v, fix_tex
  * is and one of a disallowed type takes the best of the allowed type alone, as before:
  * a world warmer or colder than anything on Earth keeps the type constraint.
  *
- * Each candidate is a chain of random reads (a draw's valid-list entry, then its type
- * and height), about a microsecond when taken one texel at a time. So the scan gathers
+ * A replaced texel's candidates are random reads (a neighbour's candidate: its type and
+ * height; a draw: its valid-list entry, then its height), about 2200 cycles a texel when
+ * taken one texel at a time (seed 7, timed with rdtsc). So the scan gathers
  * up to FIX_BATCH failing texels of a row, computing their candidates' addresses and
  * prefetching them, and fixup_batch then weighs the batch in the same fixed order per
  * texel: the same result, with the misses of many texels in flight at once. */
@@ -275,7 +278,8 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                 ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
                 t->q[k] = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
                 t->vq[k] = v->V[j];
-                __builtin_prefetch(c->etype + pg_synth_texel(c->ex, t->q[k]));
+                if (pg_ps_type_block(c, t->q[k]) & (uint8_t) ~(m & PG_TYPES_ALL))
+                    __builtin_prefetch(c->etype + pg_synth_texel(c->ex, t->q[k]));
                 __builtin_prefetch(height_addr(c, scale, t->q[k]));
             }
             for (int k = 8; k < 16; k++) {
