@@ -4,7 +4,7 @@
  * quarter about its centre breaks the four seams of that face; tiles offset by their
  * own constants show at tile edges and not at face seams; a seamless field whose detail
  * is stronger next to the face edges than inside fools the pooled ratio and not the
- * local one. */
+ * local one; one seam broken alone is the one named as the worst. */
 #include "pg_test.h"
 
 #include "planetgen/pg_inspect.h"
@@ -69,6 +69,53 @@ static void turn_face(pg_planet *p, int f) {
         }
     free(h);
     free(a);
+}
+
+/* Break the one seam along face f's +x edge: the texels of its last 2 columns take
+ * hashed values, so pairs across that seam (and just inside it) differ and no other
+ * seam's pairs change. Returns the face across that edge. */
+static int break_one_seam(pg_planet *p, int f) {
+    const int64_t n = p->n;
+    for (int64_t y = 0; y < n; y++)
+        for (int64_t x = n - 2; x < n; x++) {
+            const size_t i = (size_t)(y * n + x);
+            p->height[f][i] += (float)(2000 * (unit(9, i, 0) - 0.5));
+            for (int c = 0; c < 3; c++)
+                p->albedo[f][3 * i + c] += (float)(0.8 * (unit(9, i, 1 + c) - 0.5));
+        }
+    pg_cube_grid g;
+    pg_error err = {0};
+    assert_int_equal(pg_cube_grid_init(&g, p->projection, 1, (int)n, &err), PG_OK);
+    int rot;
+    return (int)(pg_cube_wrap(&g, f, n, n / 2, &rot) / (n * n));
+}
+
+static void test_worst_seam_named(void **s) {
+    (void)s;
+    pg_planet p;
+    make_planet(&p, 4, 32);
+    pg_inspect_seams r;
+    pg_error err = {0};
+    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+    const double smooth = r.worst_seam_ratio;
+    print_message("smooth: worst seam %s/%s %.3f\n", pg_cube_face_name(r.worst_seam_faces[0]),
+                  pg_cube_face_name(r.worst_seam_faces[1]), smooth);
+    /* one seam's pairs measure the field across that seam alone, so even a seamless
+     * field's seams spread about the pooled figure; the worst is at least that */
+    assert_true(smooth >= r.height.face_seam_ratio - 1e-9 && smooth < 2);
+    const int f = PG_CUBE_FACE_NZ, g = break_one_seam(&p, f);
+    assert_int_not_equal(g, f);
+    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+    print_message("%s's +x edge broken (across it %s): worst seam %s/%s (%s) %.3f, local %.3f; "
+                  "all seams %.3f\n",
+                  pg_cube_face_name(f), pg_cube_face_name(g),
+                  pg_cube_face_name(r.worst_seam_faces[0]),
+                  pg_cube_face_name(r.worst_seam_faces[1]), r.worst_seam_field, r.worst_seam_ratio,
+                  r.worst_seam_ratio_local, r.face_seam_ratio);
+    assert_int_equal(r.worst_seam_faces[0], f < g ? f : g);
+    assert_int_equal(r.worst_seam_faces[1], f < g ? g : f);
+    assert_true(r.worst_seam_ratio > 2 * smooth);
+    pg_planet_free(&p);
 }
 
 static void test_smooth_field_has_no_seams(void **s) {
@@ -171,6 +218,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_smooth_field_has_no_seams),
                                        cmocka_unit_test(test_turned_face_fails),
                                        cmocka_unit_test(test_offset_tiles_show_at_tile_edges),
-                                       cmocka_unit_test(test_local_ratio_ignores_where_detail_is)};
+                                       cmocka_unit_test(test_local_ratio_ignores_where_detail_is),
+                                       cmocka_unit_test(test_worst_seam_named)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -71,6 +71,11 @@ typedef struct pg_inspect_seam_stat {
     double face_seam_ratio_local;
     double tile_edge_ratio; /* tile_edge_mean / interior_mean (NaN with 1 tile per face) */
     uint64_t seam_pairs, interior_pairs, face_seam_pairs;
+    /* The seam with the largest face_seam_ratio of its own (its pairs' mean |delta| /
+     * within_face_mean), its two faces (ascending), and that seam against its own ground
+     * as face_seam_ratio_local is for all 12: which seam a failing ratio comes from. */
+    double worst_seam_ratio, worst_seam_ratio_local;
+    int worst_seam_faces[2];
 } pg_inspect_seam_stat;
 
 typedef struct pg_inspect_seams {
@@ -80,6 +85,11 @@ typedef struct pg_inspect_seams {
                                      PG_INSPECT_FACE_SEAM_GATE) */
     double face_seam_ratio_local; /* the larger of the two face_seam_ratio_local */
     double tile_edge_ratio;       /* the larger of the two tile_edge_ratio */
+    /* the worse of the two fields' worst seams: its figures, faces, and field ("height"
+     * or "albedo") */
+    double worst_seam_ratio, worst_seam_ratio_local;
+    int worst_seam_faces[2];
+    const char *worst_seam_field;
 } pg_inspect_seams;
 
 /* The statistic of one field: faces[f] holds n*n texels of ch floats in the layout of

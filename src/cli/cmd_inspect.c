@@ -222,6 +222,14 @@ static void print_geometry(pg_cli *cli, const pg_realism *P, const pg_realism *E
           PG_INSPECT_FACE_SEAM_GATE, 1);
     row(cli, "face_seam_ratio_local", P->seams.face_seam_ratio_local,
         E->seams.face_seam_ratio_local, "each seam against the ground beside it");
+    if (P->seams.worst_seam_faces[0] >= 0) {
+        snprintf(note, sizeof note, "worst seam %s/%s (%s), against its own ground %.3f",
+                 pg_cube_face_name(P->seams.worst_seam_faces[0]),
+                 pg_cube_face_name(P->seams.worst_seam_faces[1]), P->seams.worst_seam_field,
+                 P->seams.worst_seam_ratio_local);
+        row(cli, "face_seam_worst_ratio", P->seams.worst_seam_ratio, E->seams.worst_seam_ratio,
+            note);
+    }
     gated(cli, "face_seam_coherence", P->coherence.face_seam_coherence,
           E->coherence.face_seam_coherence, PG_INSPECT_FACE_COHERENCE_GATE, 0);
     row(cli, "tile_edge_ratio", P->seams.tile_edge_ratio, E->seams.tile_edge_ratio, NULL);
@@ -370,6 +378,15 @@ static void json_details(pg_json *o, const pg_realism *r) {
     pg_json_set_number(d, "face_seam_ratio_albedo", r->seams.albedo.face_seam_ratio);
     pg_json_set_number(d, "face_seam_ratio_local_height", r->seams.height.face_seam_ratio_local);
     pg_json_set_number(d, "face_seam_ratio_local_albedo", r->seams.albedo.face_seam_ratio_local);
+    pg_json_set_number(d, "worst_seam_ratio", r->seams.worst_seam_ratio);
+    pg_json_set_number(d, "worst_seam_ratio_local", r->seams.worst_seam_ratio_local);
+    if (r->seams.worst_seam_faces[0] >= 0) {
+        char faces[16];
+        snprintf(faces, sizeof faces, "%s/%s", pg_cube_face_name(r->seams.worst_seam_faces[0]),
+                 pg_cube_face_name(r->seams.worst_seam_faces[1]));
+        pg_json_set_string(d, "worst_seam", faces);
+        pg_json_set_string(d, "worst_seam_field", r->seams.worst_seam_field);
+    }
     pg_json_set_number(d, "tile_edge_ratio_height", r->seams.height.tile_edge_ratio);
     pg_json_set_number(d, "tile_edge_ratio_albedo", r->seams.albedo.tile_edge_ratio);
     pg_json_set_number(d, "coherent_share_face_seams", r->coherence.seam_share);

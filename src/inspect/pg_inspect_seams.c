@@ -8,11 +8,15 @@
  * neighbourhoods that synthesis stitched. Each face visits all four of its edges, so
  * every seam pair is counted twice (once from each side): the mean is unchanged.
  *
+ * The same sums by the face across each seam give each of the 12 seams its own
+ * figures, and the worst seam names where a failing pooled figure comes from.
+ *
  * Sums run per face in parallel into per-face accumulators, then add up in face
  * order, so the result does not depend on the thread count. */
 #include "planetgen/pg_inspect.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,6 +31,10 @@ enum { KIND_INTERIOR, KIND_TILE, KIND_FACE, KIND_NEAR_FACE, KIND_COUNT };
 typedef struct seam_acc {
     double sum[KIND_COUNT];
     uint64_t count[KIND_COUNT];
+    /* the face-seam and near pairs again, by the face across the seam: one face's
+     * accumulator holds its side of each of its four seams */
+    double seam_sum[PG_CUBE_NFACES], near_sum[PG_CUBE_NFACES];
+    uint64_t seam_count[PG_CUBE_NFACES], near_count[PG_CUBE_NFACES];
 } seam_acc;
 
 static double texel_delta(const float *a, const float *b, int ch) {
@@ -68,14 +76,20 @@ static void seam_pairs(const pg_cube_grid *g, int f, const float *const faces[PG
             int64_t nf = id / (n * n), rest = id % (n * n);
             const float *a = faces[f] + (size_t)(in[e][1] * n + in[e][0]) * ch;
             const float *b = faces[nf] + (size_t)rest * ch;
-            add(acc, KIND_FACE, texel_delta(a, b, ch));
+            const double dab = texel_delta(a, b, ch);
+            add(acc, KIND_FACE, dab);
+            acc->seam_sum[nf] += dab;
+            acc->seam_count[nf]++;
             /* inward, one texel: minus the outward step */
             const ptrdiff_t step =
                 -(ptrdiff_t)((out[e][1] - in[e][1]) * n + (out[e][0] - in[e][0]));
             for (int64_t d = SEAM_NEAR_FROM; d < SEAM_NEAR_FROM + SEAM_NEAR_COUNT && d + 1 < n;
                  d++) {
                 const float *p = a + step * d * ch;
-                add(acc, KIND_NEAR_FACE, texel_delta(p, p + step * ch, ch));
+                const double dn = texel_delta(p, p + step * ch, ch);
+                add(acc, KIND_NEAR_FACE, dn);
+                acc->near_sum[nf] += dn;
+                acc->near_count[nf]++;
             }
         }
     }
@@ -83,6 +97,27 @@ static void seam_pairs(const pg_cube_grid *g, int f, const float *const faces[PG
 
 static double mean_of(double s, uint64_t c) {
     return c ? s / (double)c : NAN;
+}
+
+/* The seam with the largest ratio of its own against within (the mean of the pairs
+ * inside faces): both sides' sums of each face pair, in face order. */
+static void worst_seam(const seam_acc acc[PG_CUBE_NFACES], double within,
+                       pg_inspect_seam_stat *out) {
+    out->worst_seam_ratio = out->worst_seam_ratio_local = NAN;
+    out->worst_seam_faces[0] = out->worst_seam_faces[1] = -1;
+    for (int a = 0; a < PG_CUBE_NFACES; a++)
+        for (int b = a + 1; b < PG_CUBE_NFACES; b++) {
+            const uint64_t c = acc[a].seam_count[b] + acc[b].seam_count[a];
+            if (!c || !(within > 0)) continue;
+            const double mean = (acc[a].seam_sum[b] + acc[b].seam_sum[a]) / (double)c;
+            const double ratio = mean / within;
+            if (!(ratio > out->worst_seam_ratio) && !isnan(out->worst_seam_ratio)) continue;
+            const double near = mean_of(acc[a].near_sum[b] + acc[b].near_sum[a],
+                                        acc[a].near_count[b] + acc[b].near_count[a]);
+            out->worst_seam_ratio = ratio;
+            out->worst_seam_ratio_local = near > 0 ? mean / near : NAN;
+            out->worst_seam_faces[0] = a, out->worst_seam_faces[1] = b;
+        }
 }
 
 pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const faces[PG_CUBE_NFACES],
@@ -131,6 +166,7 @@ pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const fac
     out->tile_edge_ratio = out->interior_mean > 0 && t.count[KIND_TILE]
                                ? out->tile_edge_mean / out->interior_mean
                                : NAN;
+    worst_seam(acc, out->within_face_mean, out);
     return PG_OK;
 }
 
@@ -148,5 +184,13 @@ pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg
     out->face_seam_ratio_local =
         fmax(out->height.face_seam_ratio_local, out->albedo.face_seam_ratio_local);
     out->tile_edge_ratio = fmax(out->height.tile_edge_ratio, out->albedo.tile_edge_ratio);
+    const bool albedo = out->albedo.worst_seam_ratio > out->height.worst_seam_ratio ||
+                        isnan(out->height.worst_seam_ratio);
+    const pg_inspect_seam_stat *w = albedo ? &out->albedo : &out->height;
+    out->worst_seam_ratio = w->worst_seam_ratio;
+    out->worst_seam_ratio_local = w->worst_seam_ratio_local;
+    out->worst_seam_faces[0] = w->worst_seam_faces[0];
+    out->worst_seam_faces[1] = w->worst_seam_faces[1];
+    out->worst_seam_field = albedo ? "albedo" : "height";
     return st;
 }
