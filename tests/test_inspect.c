@@ -584,6 +584,23 @@ static void test_cli_report(void **state) {
     assert_int_equal(pg_test_count_files(views), 2 * PG_VIEWS_COUNT + 2);
     snprintf(views, sizeof views, "%s/inspect/rivers.png", fx->dir);
     assert_true(pg_test_file_nonempty(views));
+    /* again: Earth's side now comes from the cache, as the struct's bytes, so nothing in
+     * it may be a pointer (the worst seam's field once was, and this run crashed) */
+    rc = pg_test_run_cli(args, out, sizeof out, errb, sizeof errb);
+    assert_int_equal(rc, 0);
+    assert_true(json_number(json, "face_seam_ratio") <= PG_INSPECT_FACE_SEAM_GATE);
+    static char buf[1 << 20];
+    FILE *f = fopen(json, "r");
+    assert_non_null(f);
+    buf[fread(buf, 1, sizeof buf - 1, f)] = 0;
+    fclose(f);
+    int fields = 0;
+    for (const char *p = buf; (p = strstr(p, "\"worst_seam_field\": \"")); p++) {
+        const char *v = p + strlen("\"worst_seam_field\": \"");
+        assert_true(!strncmp(v, "height\"", 7) || !strncmp(v, "albedo\"", 7));
+        fields++;
+    }
+    assert_int_equal(fields, 2); /* the planet's and Earth's */
 }
 
 static void expect_bad(const char *args, const char *needle) {

@@ -86,10 +86,11 @@ typedef struct pg_inspect_seams {
     double face_seam_ratio_local; /* the larger of the two face_seam_ratio_local */
     double tile_edge_ratio;       /* the larger of the two tile_edge_ratio */
     /* the worse of the two fields' worst seams: its figures, faces, and field ("height"
-     * or "albedo") */
+     * or "albedo"; held in the struct, not pointed to: the report caches Earth's figures
+     * as the struct's bytes) */
     double worst_seam_ratio, worst_seam_ratio_local;
     int worst_seam_faces[2];
-    const char *worst_seam_field;
+    char worst_seam_field[8];
 } pg_inspect_seams;
 
 /* The statistic of one field: faces[f] holds n*n texels of ch floats in the layout of

@@ -17,6 +17,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -191,6 +192,7 @@ pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg
     out->worst_seam_ratio_local = w->worst_seam_ratio_local;
     out->worst_seam_faces[0] = w->worst_seam_faces[0];
     out->worst_seam_faces[1] = w->worst_seam_faces[1];
-    out->worst_seam_field = albedo ? "albedo" : "height";
+    snprintf(out->worst_seam_field, sizeof out->worst_seam_field, "%s",
+             albedo ? "albedo" : "height");
     return st;
 }
