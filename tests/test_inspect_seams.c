@@ -11,6 +11,7 @@
 #include "planetgen/pg_synth.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -72,8 +73,9 @@ static void turn_face(pg_planet *p, int f) {
 }
 
 /* Break the one seam along face f's +x edge: the texels of its last 2 columns take
- * hashed values, so pairs across that seam (and just inside it) differ and no other
- * seam's pairs change. Returns the face across that edge. */
+ * hashed values, so pairs across that seam (and just inside it) differ, and of the
+ * other seams' pairs only the 2 at each end of that column. Returns the face across
+ * that edge. */
 static int break_one_seam(pg_planet *p, int f) {
     const int64_t n = p->n;
     for (int64_t y = 0; y < n; y++)
@@ -97,31 +99,50 @@ static void smooth_seams(pg_planet *p, pg_inspect_seams *r) {
     assert_int_equal(pg_inspect_seams_compute(p, r, &err), PG_OK);
 }
 
+static void assert_seam(const pg_inspect_seam_stat *st, int f, int g) {
+    assert_int_equal(st->worst_seam_faces[0], f < g ? f : g);
+    assert_int_equal(st->worst_seam_faces[1], f < g ? g : f);
+}
+
 static void test_worst_seam_named(void **s) {
     (void)s;
-    pg_planet p;
-    pg_inspect_seams r;
-    smooth_seams(&p, &r);
-    const double smooth = r.worst_seam_ratio;
-    print_message("smooth: worst seam %s/%s %.3f\n", pg_cube_face_name(r.worst_seam_faces[0]),
-                  pg_cube_face_name(r.worst_seam_faces[1]), smooth);
-    /* one seam's pairs measure the field across that seam alone, so even a seamless
-     * field's seams spread about the pooled figure; the worst is at least that */
-    assert_true(smooth >= r.height.face_seam_ratio - 1e-9 && smooth < 2);
-    const int f = PG_CUBE_FACE_NZ, g = break_one_seam(&p, f);
-    assert_int_not_equal(g, f);
-    pg_error err = {0};
-    assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
-    print_message("%s's +x edge broken (across it %s): worst seam %s/%s (%s) %.3f, local %.3f; "
-                  "all seams %.3f\n",
-                  pg_cube_face_name(f), pg_cube_face_name(g),
-                  pg_cube_face_name(r.worst_seam_faces[0]),
-                  pg_cube_face_name(r.worst_seam_faces[1]), r.worst_seam_field, r.worst_seam_ratio,
-                  r.worst_seam_ratio_local, r.face_seam_ratio);
-    assert_int_equal(r.worst_seam_faces[0], f < g ? f : g);
-    assert_int_equal(r.worst_seam_faces[1], f < g ? g : f);
-    assert_true(r.worst_seam_ratio > 2 * smooth);
-    pg_planet_free(&p);
+    /* a quarter-turn seam of a polar face, and a seam between two equatorial faces */
+    const int broken[2] = {PG_CUBE_FACE_NZ, PG_CUBE_FACE_PY};
+    for (int k = 0; k < 2; k++) {
+        pg_planet p;
+        pg_inspect_seams r;
+        smooth_seams(&p, &r);
+        const double smooth = r.worst_seam_ratio;
+        print_message("smooth: worst seam %s/%s %.3f, local %.3f\n",
+                      pg_cube_face_name(r.worst_seam_faces[0]),
+                      pg_cube_face_name(r.worst_seam_faces[1]), smooth, r.worst_seam_ratio_local);
+        /* one seam's pairs measure the field across that seam alone, so a seamless
+         * field's seams spread about the pooled figure; against their own ground they
+         * do not */
+        assert_true(smooth < 2);
+        assert_true(fabs(r.worst_seam_ratio_local - 1) < 0.2);
+        const int f = broken[k], g = break_one_seam(&p, f);
+        assert_int_not_equal(g, f);
+        pg_error err = {0};
+        assert_int_equal(pg_inspect_seams_compute(&p, &r, &err), PG_OK);
+        print_message("%s's +x edge broken (across it %s): worst seam %s/%s (%s) %.3f, local "
+                      "%.3f; all seams %.3f\n",
+                      pg_cube_face_name(f), pg_cube_face_name(g),
+                      pg_cube_face_name(r.worst_seam_faces[0]),
+                      pg_cube_face_name(r.worst_seam_faces[1]), r.worst_seam_field,
+                      r.worst_seam_ratio, r.worst_seam_ratio_local, r.face_seam_ratio);
+        assert_seam(&r.height, f, g), assert_seam(&r.albedo, f, g);
+        assert_int_equal(r.worst_seam_faces[0], r.height.worst_seam_faces[0]);
+        assert_int_equal(r.worst_seam_faces[1], r.height.worst_seam_faces[1]);
+        assert_true(r.worst_seam_ratio > 2 * smooth);
+        assert_true(r.worst_seam_ratio_local > 2);
+        /* the field named is the one whose worst seam is worse */
+        const bool albedo = r.albedo.worst_seam_ratio > r.height.worst_seam_ratio;
+        assert_string_equal(r.worst_seam_field, albedo ? "albedo" : "height");
+        assert_true(r.worst_seam_ratio ==
+                    (albedo ? r.albedo.worst_seam_ratio : r.height.worst_seam_ratio));
+        pg_planet_free(&p);
+    }
 }
 
 static void test_smooth_field_has_no_seams(void **s) {

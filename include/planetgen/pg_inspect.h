@@ -73,7 +73,9 @@ typedef struct pg_inspect_seam_stat {
     uint64_t seam_pairs, interior_pairs, face_seam_pairs;
     /* The seam with the largest face_seam_ratio of its own (its pairs' mean |delta| /
      * within_face_mean), its two faces (ascending), and that seam against its own ground
-     * as face_seam_ratio_local is for all 12: which seam a failing ratio comes from. */
+     * as face_seam_ratio_local is for all 12: where to look first when the pooled figure
+     * fails (ranked against the faces' mean, it may also be the seam on the busiest
+     * ground). No seam (a bad input, no pairs): faces -1, ratios NaN. */
     double worst_seam_ratio, worst_seam_ratio_local;
     int worst_seam_faces[2];
 } pg_inspect_seam_stat;
@@ -86,8 +88,9 @@ typedef struct pg_inspect_seams {
     double face_seam_ratio_local; /* the larger of the two face_seam_ratio_local */
     double tile_edge_ratio;       /* the larger of the two tile_edge_ratio */
     /* the worse of the two fields' worst seams: its figures, faces, and field ("height"
-     * or "albedo"; held in the struct, not pointed to: the report caches Earth's figures
-     * as the struct's bytes) */
+     * or "albedo", "" with no seam; held in the struct, not pointed to: the report caches
+     * Earth's figures as the struct's bytes). It may be another field than the one whose
+     * pooled figure is face_seam_ratio. */
     double worst_seam_ratio, worst_seam_ratio_local;
     int worst_seam_faces[2];
     char worst_seam_field[8];

@@ -102,10 +102,14 @@ static double mean_of(double s, uint64_t c) {
 
 /* The seam with the largest ratio of its own against within (the mean of the pairs
  * inside faces): both sides' sums of each face pair, in face order. */
-static void worst_seam(const seam_acc acc[PG_CUBE_NFACES], double within,
-                       pg_inspect_seam_stat *out) {
+static void no_seam(pg_inspect_seam_stat *out) {
     out->worst_seam_ratio = out->worst_seam_ratio_local = NAN;
     out->worst_seam_faces[0] = out->worst_seam_faces[1] = -1;
+}
+
+static void worst_seam(const seam_acc acc[PG_CUBE_NFACES], double within,
+                       pg_inspect_seam_stat *out) {
+    no_seam(out);
     for (int a = 0; a < PG_CUBE_NFACES; a++)
         for (int b = a + 1; b < PG_CUBE_NFACES; b++) {
             const uint64_t c = acc[a].seam_count[b] + acc[b].seam_count[a];
@@ -124,6 +128,7 @@ static void worst_seam(const seam_acc acc[PG_CUBE_NFACES], double within,
 pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const faces[PG_CUBE_NFACES],
                                 int ch, pg_inspect_seam_stat *out, pg_error *err) {
     memset(out, 0, sizeof *out);
+    no_seam(out); /* until the sums are in */
     if (n < 2 || tile_size < 1 || n % tile_size || ch < 1)
         return pg_error_set(err, PG_ERR_BADINPUT,
                             "seams: face size %lld is not a multiple of tile size %d", (long long)n,
@@ -173,6 +178,7 @@ pg_status pg_inspect_seam_field(int64_t n, int tile_size, const float *const fac
 
 pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg_error *err) {
     memset(out, 0, sizeof *out);
+    no_seam(&out->height), no_seam(&out->albedo);
     const float *h[PG_CUBE_NFACES], *a[PG_CUBE_NFACES];
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
         h[f] = p->height[f];
@@ -193,6 +199,8 @@ pg_status pg_inspect_seams_compute(const pg_planet *p, pg_inspect_seams *out, pg
     out->worst_seam_faces[0] = w->worst_seam_faces[0];
     out->worst_seam_faces[1] = w->worst_seam_faces[1];
     snprintf(out->worst_seam_field, sizeof out->worst_seam_field, "%s",
-             albedo ? "albedo" : "height");
+             w->worst_seam_faces[0] < 0 ? ""
+             : albedo                   ? "albedo"
+                                        : "height");
     return st;
 }
