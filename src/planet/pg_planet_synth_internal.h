@@ -164,10 +164,16 @@ static inline uint8_t pg_ps_type_block(const pg_ps_ctx *c, uint32_t q) {
                      (pg_synth_u(q) >> PS_TYPE_BLOCK_SHIFT)];
 }
 
+/* Whether q's block holds a type that m does not allow: only then does the check need
+ * etype (and its prefetch pay). */
+static inline bool pg_ps_type_block_mixed(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
+    return pg_ps_type_block(c, q) & (uint8_t) ~(m & PG_TYPES_ALL);
+}
+
 /* pg_ps_type_allowed, answered from q's block when the mask allows all its types: the
  * same answer, with the random read of etype only where the block is mixed. */
 static inline bool pg_ps_type_allowed_fast(const pg_ps_ctx *c, uint8_t m, uint32_t q) {
-    if (!(pg_ps_type_block(c, q) & (uint8_t) ~(m & PG_TYPES_ALL))) return true;
+    if (!pg_ps_type_block_mixed(c, m, q)) return true;
     return pg_ps_type_allowed(c, m, q);
 }
 

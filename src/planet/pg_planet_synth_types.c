@@ -262,7 +262,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
             uint8_t m = pg_ps_mask_at(c, r, v->face, gx, gy);
             if (x + 2 * TYPES_AHEAD < v->w) {
                 const uint32_t qa = v->S[i + 2 * TYPES_AHEAD];
-                if (pg_ps_type_block(c, qa) & (uint8_t) ~(m & PG_TYPES_ALL))
+                if (pg_ps_type_block_mixed(c, m, qa))
                     __builtin_prefetch(c->etype + pg_synth_texel(c->ex, qa));
             }
             const int tt =
@@ -278,7 +278,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                 ptrdiff_t j = i + (ptrdiff_t)ey * v->stride + ex;
                 t->q[k] = pg_synth_view_move(c->ex, v, j, -h * ex, -h * ey);
                 t->vq[k] = v->V[j];
-                if (pg_ps_type_block(c, t->q[k]) & (uint8_t) ~(m & PG_TYPES_ALL))
+                if (pg_ps_type_block_mixed(c, m, t->q[k]))
                     __builtin_prefetch(c->etype + pg_synth_texel(c->ex, t->q[k]));
                 __builtin_prefetch(height_addr(c, scale, t->q[k]));
             }
