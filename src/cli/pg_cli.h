@@ -77,7 +77,8 @@ typedef struct pg_cli {
         double private_bytes, shared_bytes, private_dirty_bytes;
     } stages[PG_STAGE_MAX];
     /* the largest private and shared memory of the samples taken at stage ends and,
-     * while pg_cli_memory_watch runs, every PG_CLI_SMAPS_INTERVAL seconds (under lock) */
+     * while pg_cli_memory_watch runs, every PG_CLI_SMAPS_INTERVAL seconds or more (under
+     * lock) */
     double private_peak, shared_peak, private_dirty_peak;
     pthread_t mem_watcher;
     pthread_cond_t mem_wake; /* with lock: wakes the memory watcher to stop */
@@ -236,12 +237,14 @@ bool pg_cli_smaps(pg_cli_smaps_figures *out);
 /* Samples pg_cli_smaps into cli->private_peak and shared_peak (stage ends do). */
 void pg_cli_sample_memory(pg_cli *cli);
 
-/* A thread that samples pg_cli_sample_memory every PG_CLI_SMAPS_INTERVAL seconds, so
- * that the peak includes the moments between stage ends (a command's --json report:
- * "peak_private_bytes"). pg_cli_memory_unwatch stops and joins it (main does, after
- * every command; a no-op when none runs). Returns 0, or -1 when it cannot start (the
- * stage ends still sample). */
+/* A thread that samples pg_cli_sample_memory every PG_CLI_SMAPS_INTERVAL seconds, or
+ * PG_CLI_SMAPS_DUTY times its last sample's own time if that is longer (a large process's
+ * smaps_rollup is slow to read), so that the peak includes the moments between stage
+ * ends (a command's --json report: "peak_private_bytes"). pg_cli_memory_unwatch stops
+ * and joins it (main does, after every command; a no-op when none runs). Returns 0, or
+ * -1 when it cannot start (the stage ends still sample). */
 #define PG_CLI_SMAPS_INTERVAL 0.1
+#define PG_CLI_SMAPS_DUTY 25.0
 int pg_cli_memory_watch(pg_cli *cli);
 void pg_cli_memory_unwatch(pg_cli *cli);
 /* Pause (or resume) the watcher's samples, for the moments when a mapping that other

@@ -54,16 +54,29 @@ void pg_cli_sample_memory(pg_cli *cli) {
     pthread_mutex_unlock(&cli->lock);
 }
 
+/* The wait after a sample that took `took` seconds. Reading smaps_rollup walks the page
+ * tables of every mapping under the mmap lock: 10-30 ms once the exemplar's cache is
+ * mapped (6 x 1024^2, about 1 GB resident), which at a fixed 0.1 s would take 10-30% of a
+ * core from the run and stall its page faults. So the watcher waits at least
+ * PG_CLI_SMAPS_DUTY times its own last read, keeping its share of one core below
+ * 1 / PG_CLI_SMAPS_DUTY; small processes are still sampled every PG_CLI_SMAPS_INTERVAL. */
+static double watch_interval(double took) {
+    double wait = PG_CLI_SMAPS_DUTY * took;
+    return wait > PG_CLI_SMAPS_INTERVAL ? wait : PG_CLI_SMAPS_INTERVAL;
+}
+
 static void *memory_watcher(void *arg) {
     pg_cli *cli = arg;
     for (;;) {
         pthread_mutex_lock(&cli->lock);
         bool paused = cli->mem_paused;
         pthread_mutex_unlock(&cli->lock);
+        double t0 = pg_cli_now();
         if (!paused) pg_cli_sample_memory(cli);
+        double wait = watch_interval(pg_cli_now() - t0);
         struct timespec until;
         clock_gettime(CLOCK_REALTIME, &until);
-        long ns = until.tv_nsec + (long)(PG_CLI_SMAPS_INTERVAL * 1e9);
+        long ns = until.tv_nsec + (long)(wait * 1e9);
         until.tv_sec += ns / 1000000000L;
         until.tv_nsec = ns % 1000000000L;
         pthread_mutex_lock(&cli->lock);
