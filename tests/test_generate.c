@@ -4,6 +4,8 @@
  *    height| and |delta albedo| of texel pairs straddling a seam are <= 1.1 x the same
  *    for adjacent interior pairs, and the coherent-pair rate across seams (S[q] moved
  *    back by the step, rotated into q's frame, is S[p]) is >= 0.8 x the interior rate;
+ *    the face seams' rate is also printed split into the polar faces' 8 quarter-turn
+ *    seams and the other 4 (docs/generate.md, "Quality"; not a gate);
  *  - the same check fails when tiles are synthesized independently, without halos;
  *  - bit-identical output across tilings (S = 64, 128, 256 with matching T) and thread
  *    counts (1 vs 2);
@@ -95,6 +97,7 @@ typedef struct acc {
 
 typedef struct seams {
     acc seam, inner, face; /* face: the face seams alone (also counted in seam) */
+    acc polar, equatorial; /* the face seams split: the 8 of the polar faces, the other 4 */
 } seams;
 
 static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
@@ -140,6 +143,9 @@ static seams seam_stats(const run *r) {
                     if (out[k][0]) {
                         add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.seam);
                         add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.face);
+                        /* an equatorial face's top and bottom edges meet the polar faces */
+                        add_pair(r, f, x, y, out[k][1], out[k][2], &g,
+                                 f >= PG_CUBE_FACE_PZ || k >= 2 ? &s.polar : &s.equatorial);
                     }
             }
     return s;
@@ -147,18 +153,24 @@ static seams seam_stats(const run *r) {
 
 typedef struct ratios {
     double h, a, coh;
+    double polar; /* coherent rate of the polar faces' seams / that of the other 4 */
 } ratios;
 
 static ratios seam_ratios(const run *r) {
     seams s = seam_stats(r);
     ratios q = {(s.seam.dh / s.seam.n) / (s.inner.dh / s.inner.n),
                 (s.seam.da / s.seam.n) / (s.inner.da / s.inner.n),
-                ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n)};
+                ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n),
+                ((double)s.polar.coherent / s.polar.n) /
+                    ((double)s.equatorial.coherent / s.equatorial.n)};
     printf("  seam/interior: |dh| %.3f, |dalbedo| %.3f, coherent rate %.4f (interior rate "
            "%.3f); face seams alone: |dh| %.3f, |dalbedo| %.3f, coherent %.3f\n",
            q.h, q.a, q.coh, (double)s.inner.coherent / s.inner.n,
            (s.face.dh / s.face.n) / (s.inner.dh / s.inner.n),
            (s.face.da / s.face.n) / (s.inner.da / s.inner.n), (double)s.face.coherent / s.face.n);
+    printf("  face seams' coherent rate: polar faces' 8 %.3f, the other 4 %.3f (ratio %.3f)\n",
+           (double)s.polar.coherent / s.polar.n, (double)s.equatorial.coherent / s.equatorial.n,
+           q.polar);
     return q;
 }
 
