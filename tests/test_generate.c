@@ -100,6 +100,13 @@ typedef struct seams {
     acc polar, equatorial; /* the face seams split: the 8 of the polar faces, the other 4 */
 } seams;
 
+static void acc_merge(acc *into, const acc *a) {
+    into->dh += a->dh;
+    into->da += a->da;
+    into->coherent += a->coherent;
+    into->n += a->n;
+}
+
 static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
                      const pg_cube_grid *g, acc *a) {
     const int64_t n = g->n;
@@ -141,11 +148,12 @@ static seams seam_stats(const run *r) {
                     {x == n - 1, 1, 0}, {x == 0, -1, 0}, {y == n - 1, 0, 1}, {y == 0, 0, -1}};
                 for (int k = 0; k < 4; k++)
                     if (out[k][0]) {
-                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.seam);
-                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &s.face);
+                        acc one = {0};
+                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &one);
+                        acc_merge(&s.seam, &one);
+                        acc_merge(&s.face, &one);
                         /* an equatorial face's top and bottom edges meet the polar faces */
-                        add_pair(r, f, x, y, out[k][1], out[k][2], &g,
-                                 f >= PG_CUBE_FACE_PZ || k >= 2 ? &s.polar : &s.equatorial);
+                        acc_merge(f >= PG_CUBE_FACE_PZ || k >= 2 ? &s.polar : &s.equatorial, &one);
                     }
             }
     return s;
@@ -153,24 +161,22 @@ static seams seam_stats(const run *r) {
 
 typedef struct ratios {
     double h, a, coh;
-    double polar; /* coherent rate of the polar faces' seams / that of the other 4 */
 } ratios;
 
 static ratios seam_ratios(const run *r) {
     seams s = seam_stats(r);
     ratios q = {(s.seam.dh / s.seam.n) / (s.inner.dh / s.inner.n),
                 (s.seam.da / s.seam.n) / (s.inner.da / s.inner.n),
-                ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n),
-                ((double)s.polar.coherent / s.polar.n) /
-                    ((double)s.equatorial.coherent / s.equatorial.n)};
+                ((double)s.seam.coherent / s.seam.n) / ((double)s.inner.coherent / s.inner.n)};
     printf("  seam/interior: |dh| %.3f, |dalbedo| %.3f, coherent rate %.4f (interior rate "
            "%.3f); face seams alone: |dh| %.3f, |dalbedo| %.3f, coherent %.3f\n",
            q.h, q.a, q.coh, (double)s.inner.coherent / s.inner.n,
            (s.face.dh / s.face.n) / (s.inner.dh / s.inner.n),
            (s.face.da / s.face.n) / (s.inner.da / s.inner.n), (double)s.face.coherent / s.face.n);
+    const double polar = (double)s.polar.coherent / s.polar.n,
+                 equatorial = (double)s.equatorial.coherent / s.equatorial.n;
     printf("  face seams' coherent rate: polar faces' 8 %.3f, the other 4 %.3f (ratio %.3f)\n",
-           (double)s.polar.coherent / s.polar.n, (double)s.equatorial.coherent / s.equatorial.n,
-           q.polar);
+           polar, equatorial, polar / equatorial);
     return q;
 }
 
