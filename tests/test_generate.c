@@ -4,8 +4,9 @@
  *    height| and |delta albedo| of texel pairs straddling a seam are <= 1.1 x the same
  *    for adjacent interior pairs, and the coherent-pair rate across seams (S[q] moved
  *    back by the step, rotated into q's frame, is S[p]) is >= 0.8 x the interior rate;
- *    the face seams' rate is also printed split into the polar faces' 8 quarter-turn
- *    seams and the other 4 (docs/generate.md, "Quality"; not a gate);
+ *    the face seams' rate is also printed split into the 6 seams whose sides meet with
+ *    a quarter or half turn and the 6 without, across the seam and one texel inside it
+ *    (docs/generate.md, "Quality"; not a gate);
  *  - the same check fails when tiles are synthesized independently, without halos;
  *  - bit-identical output across tilings (S = 64, 128, 256 with matching T) and thread
  *    counts (1 vs 2);
@@ -97,7 +98,9 @@ typedef struct acc {
 
 typedef struct seams {
     acc seam, inner, face; /* face: the face seams alone (also counted in seam) */
-    acc polar, equatorial; /* the face seams split: the 8 of the polar faces, the other 4 */
+    /* the face seams split by the seam's turn: the pairs across it (cross), and the
+     * pairs one texel inside it on either side, parallel to those (inside) */
+    acc cross[2], inside[2]; /* [0] the 6 seams without a turn, [1] the 6 with one */
 } seams;
 
 static void acc_merge(acc *into, const acc *a) {
@@ -152,8 +155,11 @@ static seams seam_stats(const run *r) {
                         add_pair(r, f, x, y, out[k][1], out[k][2], &g, &one);
                         acc_merge(&s.seam, &one);
                         acc_merge(&s.face, &one);
-                        /* an equatorial face's top and bottom edges meet the polar faces */
-                        acc_merge(f >= PG_CUBE_FACE_PZ || k >= 2 ? &s.polar : &s.equatorial, &one);
+                        int rot;
+                        pg_cube_wrap(&g, f, x + out[k][1], y + out[k][2], &rot);
+                        acc_merge(&s.cross[rot != 0], &one);
+                        add_pair(r, f, x - out[k][1], y - out[k][2], out[k][1], out[k][2], &g,
+                                 &s.inside[rot != 0]);
                     }
             }
     return s;
@@ -173,10 +179,13 @@ static ratios seam_ratios(const run *r) {
            q.h, q.a, q.coh, (double)s.inner.coherent / s.inner.n,
            (s.face.dh / s.face.n) / (s.inner.dh / s.inner.n),
            (s.face.da / s.face.n) / (s.inner.da / s.inner.n), (double)s.face.coherent / s.face.n);
-    const double polar = (double)s.polar.coherent / s.polar.n,
-                 equatorial = (double)s.equatorial.coherent / s.equatorial.n;
-    printf("  face seams' coherent rate: polar faces' 8 %.3f, the other 4 %.3f (ratio %.3f)\n",
-           polar, equatorial, polar / equatorial);
+    double rate[2][2];
+    for (int t = 0; t < 2; t++)
+        rate[t][0] = (double)s.cross[t].coherent / s.cross[t].n,
+        rate[t][1] = (double)s.inside[t].coherent / s.inside[t].n;
+    printf("  face seams' coherent rate, across / one texel inside: the 6 turned seams %.3f / "
+           "%.3f, the 6 others %.3f / %.3f (across: ratio %.3f)\n",
+           rate[1][0], rate[1][1], rate[0][0], rate[0][1], rate[1][0] / rate[0][0]);
     return q;
 }
 
