@@ -1,7 +1,8 @@
 /* test_synth_engine.c - properties of the synthesis engine on synthetic exemplars:
  * exact reproduction with jitter 0 on a toroidal exemplar, bit-identical results for
  * 1 and 2 threads and any tiling, the pass hook (for pit removal) editing V, the cache,
- * and bad input (constant exemplar, bad size, bad jitter, a toroidal exemplar for a planet). */
+ * upsampling that does not depend on a coordinate's orientation, and bad input (constant exemplar,
+ * bad size, bad jitter, a toroidal exemplar for a planet). */
 #include "pg_test.h"
 
 #include "pg_synth_internal.h"
@@ -315,6 +316,45 @@ static void test_orientation(void **state) {
     assert_int_equal(y, 3);
 }
 
+/* Upsampling a parent of any orientation gives the same 2 x 2 exemplar texels (at the
+ * finest scale u + {-1, 0}^2: the half-texel is rounded in the exemplar's frame), each
+ * child keeps the orientation, and the children continue one another in the output frame.
+ * Rounded in the output frame and then turned, the block moved with the orientation, and
+ * coherent parents across a turned cube seam had children a texel apart. */
+static void test_upsample_orientation(void **state) {
+    (void)state;
+    pg_synth_exemplar *ex = torus_exemplar(0);
+    for (int s = 0; s < 3; s++) {
+        const int h = 1 << s;
+        int base[4][2];
+        for (int o = 0; o < 4; o++) {
+            uint32_t S0 = pg_synth_with_orient(pg_synth_pack(0, 20, 30), o), S1[4];
+            float V0 = 0, V1[4];
+            pg_synth_view parent = {&S0, &V0, NULL, 1, 1, 1, 0, 0, 0};
+            pg_synth_view child = {S1, V1, NULL, 2, 2, 2, 0, 0, 0};
+            pg_synth_upsample(ex, s, &parent, &child);
+            int set[4][2];
+            for (int d = 0; d < 4; d++) {
+                assert_int_equal(pg_synth_orient(S1[d]), o);
+                assert_int_equal(pg_synth_offset(ex, S1[0], h * (d & 1), h * (d >> 1)), S1[d]);
+                set[d][0] = pg_synth_u(S1[d]) - 20, set[d][1] = pg_synth_v(S1[d]) - 30;
+            }
+            if (o == 0) memcpy(base, set, sizeof set);
+            for (int d = 0; d < 4; d++) { /* the same texels, in any order */
+                int found = 0;
+                for (int e = 0; e < 4; e++)
+                    found |= set[e][0] == base[d][0] && set[e][1] == base[d][1];
+                assert_true(found);
+            }
+            if (s == 0)
+                for (int d = 0; d < 4; d++)
+                    assert_true(set[d][0] >= -1 && set[d][0] <= 0 && set[d][1] >= -1 &&
+                                set[d][1] <= 0);
+        }
+    }
+    pg_synth_exemplar_free(ex);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_jitter0_reproduces_torus),
@@ -325,6 +365,7 @@ int main(void) {
         cmocka_unit_test(test_cache_roundtrip),
         cmocka_unit_test(test_kcoherence_entries),
         cmocka_unit_test(test_orientation),
+        cmocka_unit_test(test_upsample_orientation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
