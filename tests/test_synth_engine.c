@@ -1,7 +1,8 @@
 /* test_synth_engine.c - properties of the synthesis engine on synthetic exemplars:
  * exact reproduction with jitter 0 on a toroidal exemplar, bit-identical results for
  * 1 and 2 threads and any tiling, the pass hook (for pit removal) editing V, the cache,
- * upsampling that does not depend on a coordinate's orientation, and bad input (constant exemplar,
+ * upsampling that does not depend on a coordinate's orientation, k-coherence candidates
+ * that compose turns, and bad input (constant exemplar,
  * bad size, bad jitter, a toroidal exemplar for a planet). */
 #include "pg_test.h"
 
@@ -355,6 +356,26 @@ static void test_upsample_orientation(void **state) {
     pg_synth_exemplar_free(ex);
 }
 
+/* A k-coherence candidate is seen through the coordinate's turn and then the entry's: its
+ * orientation turns any move as the two turns one after the other do. OR-ing the two
+ * orientations, as the synthesis did, gave 1 | 1 = 1 for two quarter turns. */
+static void test_kcoherence_candidate_turns(void **state) {
+    (void)state;
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+            uint32_t q = pg_synth_with_orient(pg_synth_pack(1, 5, 6), a);
+            uint32_t e = pg_synth_with_orient(pg_synth_pack(2, 7, 8), b);
+            uint32_t c = pg_kcoherence_candidate(q, e);
+            assert_int_equal(c & ~PG_SYNTH_ORIENT_MASK, e & ~PG_SYNTH_ORIENT_MASK);
+            int x = 3, y = 1, x2 = 3, y2 = 1;
+            pg_synth_orient_apply(pg_synth_orient(c), &x, &y);
+            pg_synth_orient_apply(a, &x2, &y2);
+            pg_synth_orient_apply(b, &x2, &y2);
+            assert_int_equal(x, x2);
+            assert_int_equal(y, y2);
+        }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_jitter0_reproduces_torus),
@@ -366,6 +387,7 @@ int main(void) {
         cmocka_unit_test(test_kcoherence_entries),
         cmocka_unit_test(test_orientation),
         cmocka_unit_test(test_upsample_orientation),
+        cmocka_unit_test(test_kcoherence_candidate_turns),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

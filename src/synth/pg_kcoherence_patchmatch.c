@@ -241,7 +241,9 @@ static void scan_face(pm_ctx *c, int face, int it) {
     }
 }
 
-/* Texels between lattice points take their lattice point's entries, moved coherently. */
+/* Texels between lattice points take their lattice point's entries, moved coherently. A
+ * move that crosses an exemplar seam keeps that seam's turn in the entry, the one kind of
+ * entry with an orientation; pg_kcoherence_candidate composes it with the coordinate's. */
 static void fill_from_lattice(pm_ctx *c, int face) {
     const int E = c->E, m = c->m;
     for (int y = 0; y < E; y++)

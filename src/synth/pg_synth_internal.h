@@ -79,6 +79,15 @@ void pg_appearance_project_span(const pg_synth_faces *f, const pg_synth_exemplar
 pg_status pg_kcoherence_build(pg_synth_exemplar *ex, int scale, uint64_t seed, int iters,
                               double min_separation, int32_t *dist, pg_error *err);
 
+/* The k-coherence candidate of coordinate q from entry e of q's texel's table. An entry
+ * is mostly an exemplar texel (orientation 0), but the lattice fill moves a lattice
+ * point's match by up to 3 texels, and a move that crosses an exemplar seam carries
+ * that seam's turn. The candidate is seen from the output through q's turn and then the
+ * entry's, so the turns add (OR-ing them agreed only while one of the two was 0). */
+static inline uint32_t pg_kcoherence_candidate(uint32_t q, uint32_t e) {
+    return pg_synth_with_orient(e, pg_synth_orient(e) + pg_synth_orient(q));
+}
+
 /* pg_synth_cache.c */
 uint64_t pg_synth_hash_bytes(uint64_t h, const void *data, size_t n);
 pg_status pg_synth_cache_load(const char *path, uint64_t key, pg_synth_exemplar **out,
