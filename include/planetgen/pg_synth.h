@@ -196,9 +196,11 @@ void pg_synth_params_default(pg_synth_params *p);
 /* A rectangle of one synthesis level with a one-texel halo. S and V point at the
  * top-left interior texel; texel (x, y) for x, y in [-1, w] x [-1, h] is at
  * S[y * stride + x]. Halo texels are read, never written. orient (may be NULL)
- * gives, per texel (same indexing), the dihedral transform 0..7 that maps an offset in
- * this view's frame to that texel's frame (non-zero only across a cube seam):
- * o & 3 = number of quarter turns counter-clockwise, o & 4 = mirror x first. */
+ * gives, per texel (same indexing), the number of quarter turns counter-clockwise,
+ * 0..3, that maps an offset in this view's frame to that texel's frame (non-zero only
+ * across a cube seam). Only turns: a coordinate carries 2 bits of turn and no mirror, so
+ * a mirrored value (4..7, which pg_synth_orient_apply accepts) would lose its mirror in
+ * the moved coordinate. The cube's seams never mirror. */
 typedef struct pg_synth_view {
     uint32_t *S;
     float *V;
