@@ -110,8 +110,10 @@ static void acc_merge(acc *into, const acc *a) {
     into->n += a->n;
 }
 
-static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
-                     const pg_cube_grid *g, acc *a) {
+/* Adds the pair (x, y) -> (x + dx, y + dy) of face f to a; returns the turn between the
+ * two texels' frames (0 inside a face). */
+static int add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
+                    const pg_cube_grid *g, acc *a) {
     const int64_t n = g->n;
     int rot;
     int64_t q = pg_cube_wrap(g, f, x + dx, y + dy, &rot);
@@ -130,6 +132,7 @@ static void add_pair(const run *r, int f, int64_t x, int64_t y, int dx, int dy,
     uint32_t back = pg_synth_offset(ex, sq, bx, by);
     a->coherent += pg_synth_with_orient(back, pg_synth_orient(back) + ((4 - rot) & 3)) == sp;
     a->n++;
+    return rot;
 }
 
 static seams seam_stats(const run *r) {
@@ -152,11 +155,9 @@ static seams seam_stats(const run *r) {
                 for (int k = 0; k < 4; k++)
                     if (out[k][0]) {
                         acc one = {0};
-                        add_pair(r, f, x, y, out[k][1], out[k][2], &g, &one);
+                        int rot = add_pair(r, f, x, y, out[k][1], out[k][2], &g, &one);
                         acc_merge(&s.seam, &one);
                         acc_merge(&s.face, &one);
-                        int rot;
-                        pg_cube_wrap(&g, f, x + out[k][1], y + out[k][2], &rot);
                         acc_merge(&s.cross[rot != 0], &one);
                         add_pair(r, f, x - out[k][1], y - out[k][2], out[k][1], out[k][2], &g,
                                  &s.inside[rot != 0]);

@@ -2,8 +2,8 @@
  * exact reproduction with jitter 0 on a toroidal exemplar, bit-identical results for
  * 1 and 2 threads and any tiling, the pass hook (for pit removal) editing V, the cache,
  * upsampling that does not depend on a coordinate's orientation, k-coherence candidates
- * that compose turns, and bad input (constant exemplar,
- * bad size, bad jitter, a toroidal exemplar for a planet). */
+ * that compose turns, and bad input (constant exemplar, bad size, bad jitter, a toroidal
+ * exemplar for a planet). */
 #include "pg_test.h"
 
 #include "pg_synth_internal.h"

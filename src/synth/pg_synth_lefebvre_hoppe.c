@@ -334,7 +334,7 @@ HOT void gather_candidates(const corr_ctx *c, const uint32_t q0[9], cand_list *l
         if (seen) continue;
         add_cand(l, q0[i], 1.0f);
         const uint32_t *kc = c->K ? c->K + pg_synth_texel(c->ex, q0[i]) * c->kk : NULL;
-        /* a k-coherence match looks alike in its own frame: orient it as q0 is */
+        /* a k-coherence match looks alike in its own frame: seen through q0's turn */
         for (int j = 0; j < c->kk; j++)
             add_cand(l, pg_kcoherence_candidate(q0[i], kc[j]), 1.0f + c->kappa);
     }
