@@ -5,6 +5,7 @@
 // "empty" get precise messages, then open the file and check its size against the
 // pixel limit BEFORE any pixel memory is allocated. OpenImageIO reports truncated
 // data as an error from read_image (or as a pending error message): both count.
+#include "pg_huge.h"
 #include "pg_quantise.h"
 #include "planetgen/pg_image.h"
 
@@ -210,7 +211,7 @@ extern "C" pg_status pg_image_read(const char *path, uint64_t max_pixels, pg_ima
                             spec.format.c_str());
     size_t n = (size_t)npix * (size_t)spec.nchannels;
     std::vector<unsigned char> raw;
-    float *data = static_cast<float *>(std::malloc(n * sizeof(float)));
+    float *data = static_cast<float *>(pg_huge_malloc(n * sizeof(float)));
     try {
         if (!spec.format.is_floating_point()) raw.resize(n * spec.format.size());
     } catch (...) {

@@ -14,8 +14,24 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* `bytes` rounded up to whole 2 MB pages, aligned to them, advised as huge pages;
  * NULL when the allocation fails. */
 void *pg_huge_alloc(size_t bytes);
+
+/* For arrays of any size: pg_huge_alloc from PG_HUGE_MIN_BYTES up, malloc below it, where
+ * rounding up to 2 MB would waste more than the faults it saves. */
+#define PG_HUGE_MIN_BYTES ((size_t)8 << 20)
+void *pg_huge_malloc(size_t bytes);
+
+/* pg_huge_malloc, zeroed (a calloc whose big arrays fault 2 MB at a time). */
+void *pg_huge_calloc(size_t count, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

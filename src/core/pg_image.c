@@ -13,6 +13,8 @@
  * fuzz_image found). Walking the markers up to the scan finds those files first. */
 #include "planetgen/pg_image.h"
 
+#include "pg_huge.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,7 +124,7 @@ pg_status pg_image_alloc(pg_image *img, int width, int height, int channels, pg_
         return pg_error_set(err, PG_ERR_BADINPUT, "image size %dx%dx%d is not positive", width,
                             height, channels);
     size_t n = (size_t)width * (size_t)height * (size_t)channels;
-    img->data = calloc(n, sizeof(float));
+    img->data = pg_huge_calloc(n, sizeof(float));
     if (!img->data)
         return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate %.0f MB for a %dx%d image",
                             n * 4.0 / 1e6, width, height);

@@ -6,6 +6,8 @@
 #include "planetgen/pg_equirect.h"
 #include "planetgen/pg_exemplar.h"
 
+#include "pg_huge.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -42,8 +44,13 @@ static void box_shrink(const float *src, int sw, int channels, int f, float *dst
                 acc[c] = 0;
             for (int j = 0; j < f; j++) {
                 const float *row = src + ((size_t)(y * f + j) * sw + (size_t)x * f) * channels;
-                for (int i = 0; i < f * channels; i++)
-                    acc[i % channels] += row[i];
+                if (channels == 1) /* the relief: no channel index to compute */
+                    for (int i = 0; i < f; i++)
+                        acc[0] += row[i];
+                else
+                    for (int i = 0; i < f; i++)
+                        for (int c = 0; c < channels; c++)
+                            acc[c] += row[i * channels + c];
             }
             for (int c = 0; c < channels; c++)
                 dst[((size_t)y * dw + x) * channels + c] = (float)(acc[c] * inv);
@@ -54,7 +61,7 @@ static void box_shrink(const float *src, int sw, int channels, int f, float *dst
 pg_status pg_equirect_resample(const float *src, int sw, int sh, int channels, int dw, int dh,
                                float **out, pg_error *err) {
     if (channels > 16) return pg_error_set(err, PG_ERR_BADINPUT, "too many channels to resample");
-    float *dst = malloc((size_t)dw * dh * channels * sizeof(float));
+    float *dst = pg_huge_malloc((size_t)dw * dh * channels * sizeof(float));
     if (!dst) return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate a %dx%d map", dw, dh);
     if (sw % dw == 0 && sh % dh == 0 && sw / dw == sh / dh) {
         box_shrink(src, sw, channels, sw / dw, dst, dw, dh);

@@ -18,6 +18,7 @@
 #include "planetgen/pg_exemplar.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -158,11 +159,16 @@ static void add_knot(pg_calibration *c, float grey, float metres) {
 }
 
 pg_status pg_calibration_marble_refs(const pg_image *relief, pg_calibration *c, pg_error *err) {
+    /* Comparisons rather than fminf/fmaxf, which are library calls: they vectorise and
+     * reduce in parallel, and give the same extremes (a NaN fails both comparisons, as
+     * fminf/fmaxf ignore it). */
     float gmin = INFINITY, gmax = -INFINITY;
-    size_t n = (size_t)relief->width * relief->height;
-    for (size_t i = 0; i < n; i++) {
-        gmin = fminf(gmin, relief->data[i]);
-        gmax = fmaxf(gmax, relief->data[i]);
+    const float *d = relief->data;
+    const ptrdiff_t n = (ptrdiff_t)relief->width * relief->height;
+#pragma omp parallel for simd reduction(min : gmin) reduction(max : gmax)
+    for (ptrdiff_t i = 0; i < n; i++) {
+        gmin = d[i] < gmin ? d[i] : gmin;
+        gmax = d[i] > gmax ? d[i] : gmax;
     }
     c->nknots = 0;
     add_knot(c, gmin, PG_CHALLENGER_M);

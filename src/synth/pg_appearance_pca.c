@@ -22,6 +22,7 @@
  * order, so the basis does not depend on the thread count. The eigenvectors come from a
  * cyclic Jacobi iteration on the 100 x 100 matrix, with a sign convention (largest
  * |entry| positive). A constant exemplar has zero total variance: BADINPUT. */
+#include "pg_huge.h"
 #include "pg_synth_internal.h"
 
 #include <math.h>
@@ -116,7 +117,7 @@ static pg_status covariance(const pg_synth_faces *f, int h, double *mean, double
     const int stride = f->size >= 256 ? 8 : (f->size >= 64 ? 4 : 1);
     const int rows_per_face = (f->size + stride - 1) / stride;
     const int nchunks = f->nfaces * rows_per_face;
-    cov_acc *acc = malloc((size_t)nchunks * sizeof *acc);
+    cov_acc *acc = pg_huge_malloc((size_t)nchunks * sizeof *acc);
     if (!acc) return pg_error_set(err, PG_ERR_NOMEM, "appearance PCA: out of memory");
 #pragma omp parallel for schedule(dynamic, 1)
     for (int c = 0; c < nchunks; c++)

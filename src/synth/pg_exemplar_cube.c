@@ -14,6 +14,7 @@
  * Channels per texel: CIE Lab of the albedo and the height times lab_height_scale,
  * which makes the height's standard deviation w_h times the albedo's Lab standard
  * deviation, so the channel weight is a ratio independent of the exemplar's units. */
+#include "pg_huge.h"
 #include "pg_synth_internal.h"
 
 #include "planetgen/pg_cube.h"
@@ -63,7 +64,7 @@ static pg_status faces_alloc(pg_synth_faces *f, int nfaces, int size, int gutter
     f->gutter = gutter;
     f->ext = size + 2 * gutter;
     f->torus = torus;
-    f->px = malloc((size_t)nfaces * f->ext * f->ext * PG_SYNTH_CH * sizeof(float));
+    f->px = pg_huge_malloc((size_t)nfaces * f->ext * f->ext * PG_SYNTH_CH * sizeof(float));
     if (!f->px)
         return pg_error_set(err, PG_ERR_NOMEM, "exemplar cube: out of memory for %d faces of %d",
                             nfaces, f->ext);

@@ -63,8 +63,8 @@ pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int
             return NULL;
         }
     }
-    ex->albedo = malloc(n * 3);
-    ex->height = malloc(n * sizeof(float));
+    ex->albedo = pg_huge_malloc(n * 3);
+    ex->height = pg_huge_malloc(n * sizeof(float));
     int ok = ex->albedo && ex->height;
     for (int s = 0; s < levels && ok; s++) {
         /* not cleared: the preparation writes every entry, in parallel, so the threads

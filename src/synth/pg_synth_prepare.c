@@ -6,6 +6,7 @@
  * what is kept is compact: sRGB8 albedo, float height, int16 appearance vectors and
  * packed candidate coordinates. The whole result is cached under a hash of the inputs
  * and parameters (pg_synth_cache.c). */
+#include "pg_huge.h"
 #include "pg_synth_internal.h"
 
 #include <errno.h>
@@ -127,11 +128,11 @@ static double exemplar_bytes(const pg_synth_exemplar *ex) {
 /* Stack, appearance and k-coherence for every analysed level. */
 static pg_status analyse(pg_synth_faces *faces, const pg_synth_exemplar_params *p,
                          pg_synth_exemplar *ex, pg_synth_prep_info *info, pg_error *err) {
-    float *tmp = malloc((size_t)faces->nfaces * faces->ext * faces->ext * PG_SYNTH_CH * 4);
+    float *tmp = pg_huge_malloc((size_t)faces->nfaces * faces->ext * faces->ext * PG_SYNTH_CH * 4);
     /* one scratch for every level's appearance vectors, then its k-coherence distances */
     _Static_assert(PG_SYNTH_MAX_K - 1 <= PG_SYNTH_MAX_DIMS, "the distances fit the scratch");
     float *scratch =
-        malloc((size_t)faces->nfaces * faces->size * faces->size * PG_SYNTH_MAX_DIMS * 4);
+        pg_huge_malloc((size_t)faces->nfaces * faces->size * faces->size * PG_SYNTH_MAX_DIMS * 4);
     if (!tmp || !scratch) {
         free(tmp);
         free(scratch);
