@@ -18,6 +18,7 @@
  * estimator (e.g. Rigon et al. 1996, "On Hack's law", Water Resour. Res. 32). Only
  * basins that reach the sea are fitted: a pit basin is a closed depression, not a
  * river network. Sums over cells run serially in id order (thread-count independent). */
+#include "pg_huge.h"
 #include "planetgen/pg_drainage.h"
 
 #include <math.h>
@@ -71,9 +72,9 @@ static void work_free(acc_work *w) {
 
 static pg_status work_alloc(acc_work *w, uint64_t n, pg_error *err) {
     size_t m = n ? (size_t)n : 1;
-    w->ndonor = calloc(m, sizeof *w->ndonor);
-    w->acc = malloc(m * sizeof *w->acc);
-    w->main_donor = malloc(m * sizeof *w->main_donor);
+    w->ndonor = pg_huge_calloc(m, sizeof *w->ndonor);
+    w->acc = pg_huge_malloc(m * sizeof *w->acc);
+    w->main_donor = pg_huge_malloc(m * sizeof *w->main_donor);
     if (w->ndonor && w->acc && w->main_donor) return PG_OK;
     work_free(w);
     return pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for %llu cells",

@@ -14,6 +14,7 @@
  * The element depends on dz only, which is the same for texel (x, y) on the four
  * equatorial faces and, up to sign, on both polar faces: two n x n tables serve all,
  * and each is symmetric about the face's two mid-lines. */
+#include "pg_huge.h"
 #include "pg_drainage_internal.h"
 
 #include <math.h>
@@ -96,8 +97,9 @@ pg_status pg_drainage_cube_areas(pg_cube_projection p, int64_t n, const pg_ellip
     pg_ellipsoid e = ell ? *ell : pg_ellipsoid_sphere();
     double a = e.a / 1000.0, b = a * (1.0 - e.f);
     size_t nn = (size_t)n * (size_t)n, m = (size_t)(n + 1) * (size_t)(n + 1);
-    double *corner = malloc(3 * m * sizeof *corner), *centre = malloc(3 * nn * sizeof *centre);
-    float *t = malloc(2 * nn * sizeof *t);
+    double *corner = pg_huge_malloc(3 * m * sizeof *corner),
+           *centre = pg_huge_malloc(3 * nn * sizeof *centre);
+    float *t = pg_huge_malloc(2 * nn * sizeof *t);
     pg_status s = PG_OK;
     if (!corner || !centre || !t)
         s = pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for texel areas");

@@ -20,6 +20,7 @@
  * Preconditions: heights finite (NaN is refused). Determinism: each cell is decided
  * from its own neighbourhood only, with ties to the lowest id, so rows run in parallel
  * and the result does not depend on the thread count. */
+#include "pg_huge.h"
 #include "pg_drainage_internal.h"
 #include "planetgen/pg_pits.h"
 
@@ -56,7 +57,7 @@ static pg_status ctx_init(d8_ctx *c, int64_t n, pg_cube_projection proj, const p
     if (s) return s;
     size_t nn = (size_t)n * (size_t)n;
     for (int k = 0; k < 2; k++)
-        if (!(c->table[k] = malloc(nn * 3 * sizeof(double))))
+        if (!(c->table[k] = pg_huge_malloc(nn * 3 * sizeof(double))))
             return pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for texel centres");
     double *l = c->table[1];
     pg_drainage_local_centres(proj, n, l); /* in place: +Z's point overwrites its l last */

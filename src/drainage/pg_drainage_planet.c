@@ -4,6 +4,7 @@
  * ids, so ids < 2^31 for n <= 18918); the graph core (pg_drainage.c) measures it.
  * The accumulation handed out for the preview is zeroed on the sea, where it would only
  * show where rivers end. */
+#include "pg_huge.h"
 #include "planetgen/pg_drainage.h"
 
 #include <math.h>
@@ -29,10 +30,10 @@ static pg_status graph_build(const float *const faces[PG_CUBE_NFACES], int64_t n
     if (n < 2 || n > 18918)
         return pg_error_set(err, PG_ERR_BADINPUT, "drainage: face size %lld outside 2..18918",
                             (long long)n);
-    g->receiver = malloc(nc * sizeof *g->receiver);
-    g->area = malloc(nc * sizeof *g->area);
-    g->length = malloc(nc * sizeof *g->length);
-    g->flags = malloc(nc);
+    g->receiver = pg_huge_malloc(nc * sizeof *g->receiver);
+    g->area = pg_huge_malloc(nc * sizeof *g->area);
+    g->length = pg_huge_malloc(nc * sizeof *g->length);
+    g->flags = pg_huge_malloc(nc);
     pg_status s = PG_OK;
     if (!g->receiver || !g->area || !g->length || !g->flags)
         s = pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for %zu texels", nc);
@@ -63,7 +64,7 @@ pg_status pg_drainage_planet(const pg_drainage_terrain *p, const pg_drainage_opt
     if (s) return s;
     size_t nc = (size_t)6 * (size_t)p->n * (size_t)p->n;
     float *acc = NULL;
-    if (acc_out && !(acc = malloc(nc * sizeof *acc)))
+    if (acc_out && !(acc = pg_huge_malloc(nc * sizeof *acc)))
         s = pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for the accumulation");
     if (!s) s = graph_run(&g, p->n, o, st, acc, err);
     if (!s && acc)
@@ -110,15 +111,15 @@ pg_status pg_drainage_closed_land_share(const float *heights, int64_t n, pg_cube
     const float *faces[PG_CUBE_NFACES];
     for (int f = 0; f < PG_CUBE_NFACES; f++)
         faces[f] = heights + (size_t)f * (size_t)n * (size_t)n;
-    int32_t *recv = malloc((size_t)nc * sizeof *recv);
-    uint8_t *flags = malloc((size_t)nc);
+    int32_t *recv = pg_huge_malloc((size_t)nc * sizeof *recv);
+    uint8_t *flags = pg_huge_malloc((size_t)nc);
     float *area = NULL;
     pg_status s = PG_OK;
     if (!recv || !flags)
         s = pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for %lld texels",
                          (long long)nc);
     if (!s) s = pg_drainage_cube_d8(faces, n, p, ell, sea_level, recv, NULL, flags, err);
-    if (!s && !(area = malloc((size_t)nc * sizeof *area)))
+    if (!s && !(area = pg_huge_malloc((size_t)nc * sizeof *area)))
         s = pg_error_set(err, PG_ERR_NOMEM, "drainage: out of memory for texel areas");
     if (!s) s = pg_drainage_cube_areas(p, n, ell, area, err);
     if (!s) {

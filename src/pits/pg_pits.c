@@ -1,6 +1,7 @@
 /* pg_pits.c - the public entry points of pit removal: options, method names and
  * citations, dispatch to the algorithm files, the change summary, and the Gain-pit
  * offset correction (Scott & Dodgson 2021 §5: R' = remove(R), offsets += R' - R). */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <omp.h>
@@ -114,7 +115,7 @@ pg_status pg_pits_remove(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
     pg_pits_result local = {0};
     float *before = NULL;
     if (res) {
-        before = malloc(t->ncells * sizeof *before);
+        before = pg_huge_malloc(t->ncells * sizeof *before);
         if (!before) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
         memcpy(before, h, t->ncells * sizeof *before);
     }
@@ -131,7 +132,7 @@ pg_status pg_pits_correct_offsets(const pg_pits_topo *t, const float *recon, flo
                                   const pg_pits_opts *o, pg_pits_result *res, pg_error *err) {
     pg_status s = pits_validate(t, o, err);
     if (s) return s;
-    float *r = malloc(t->ncells * sizeof *r);
+    float *r = pg_huge_malloc(t->ncells * sizeof *r);
     if (!r) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     memcpy(r, recon, t->ncells * sizeof *r);
     pg_pits_result local = {0};
@@ -209,12 +210,12 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
     const int descent = o->method != PG_PITS_FILL && o->descent;
     const int soille = o->method == PG_PITS_BREACH && !o->descent;
-    float *in = malloc(n * sizeof *in), *w = NULL, *fill = NULL;
+    float *in = pg_huge_malloc(n * sizeof *in), *w = NULL, *fill = NULL;
     if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     memcpy(in, h, n * sizeof *in);
     const int need_w = plain_fill || descent || soille, need_fill = eps_fill || descent || soille;
-    if (need_w) w = malloc(n * sizeof *w);
-    if (need_fill) fill = malloc(n * sizeof *fill);
+    if (need_w) w = pg_huge_malloc(n * sizeof *w);
+    if (need_fill) fill = pg_huge_malloc(n * sizeof *fill);
     if ((need_w && !w) || (need_fill && !fill))
         s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     pg_pits_result local = {0};

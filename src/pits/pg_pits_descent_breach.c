@@ -41,6 +41,7 @@
  * the tree alone, so the result is unique: a tiling only changes the order of the
  * pass, never its outcome.
  * Preconditions: pits_begin marked the sinks; heights are not NaN (no-data is -inf). */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -156,11 +157,11 @@ pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opt
                  .max_length = hybrid ? o->max_length : INFINITY,
                  .eps = o->epsilon,
                  .sea_level = o->has_sea_level ? &o->sea_level : NULL};
-    d.v = malloc(t->ncells * sizeof *d.v);
-    d.slot = malloc(t->ncells);
-    d.pending = calloc(t->ncells, 1);
-    d.len = hybrid ? calloc(t->ncells, sizeof *d.len) : NULL;
-    float *fill = o->epsilon ? NULL : malloc(t->ncells * sizeof *fill);
+    d.v = pg_huge_malloc(t->ncells * sizeof *d.v);
+    d.slot = pg_huge_malloc(t->ncells);
+    d.pending = pg_huge_calloc(t->ncells, 1);
+    d.len = hybrid ? pg_huge_calloc(t->ncells, sizeof *d.len) : NULL;
+    float *fill = o->epsilon ? NULL : pg_huge_malloc(t->ncells * sizeof *fill);
     int oom = !d.v || !d.slot || !d.pending || (hybrid && !d.len) || (!o->epsilon && !fill);
     if (!oom && fill) { /* the minimal fill first, then the same sinks for W */
         oom = pits_meps_compute(t, h, st, &q, fill, 0);

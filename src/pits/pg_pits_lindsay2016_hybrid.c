@@ -27,6 +27,7 @@
  * only gain slope. The depth test uses the original heights, so no cell ever ends
  * lower than max_depth below where it started; channels are at most max_length.
  * With max_length 0 no channel is ever carved and the result is exactly the fill. */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -122,9 +123,9 @@ pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits
     uint64_t nsinks = 0;
     pg_status st = pits_begin(t, h, o, &s.st, &q, &nsinks, err);
     if (st) return st;
-    float *orig = malloc(t->ncells * sizeof *orig);
-    s.parent = malloc(t->ncells * sizeof *s.parent);
-    s.filled = calloc(t->ncells, 1);
+    float *orig = pg_huge_malloc(t->ncells * sizeof *orig);
+    s.parent = pg_huge_malloc(t->ncells * sizeof *s.parent);
+    s.filled = pg_huge_calloc(t->ncells, 1);
     if (orig) memcpy(orig, h, t->ncells * sizeof *orig);
     s.orig = orig;
     if (!orig || !s.parent || !s.filled || run(&s, &q) || (o->epsilon && slope(&s, &q, orig))) {

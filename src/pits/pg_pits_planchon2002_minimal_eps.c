@@ -31,6 +31,7 @@
  * linear search first; only flats and depressions go through the flood.
  * Why it is correct: Dijkstra's invariant (a popped cell's value is final) holds for
  * monotone path costs that never decrease along a path; (1) is that cost. */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -287,7 +288,7 @@ static pg_status eps_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     pg_status s = pits_begin(t, h, o, &st, &q, &nsinks, err);
     if (s) return s;
     const float *in = floor ? floor : h; /* no-data cells are not read: sinks */
-    float *w = floor ? h : malloc(t->ncells * sizeof *w);
+    float *w = floor ? h : pg_huge_malloc(t->ncells * sizeof *w);
     int oom = !w || meps_compute(t, in, st, &q, w, 1, fill);
     if (!oom && fill) *exact = !fill_check(t, in, st, fill);
     for (uint64_t i = 0; !oom && !floor && i < t->ncells; i++)

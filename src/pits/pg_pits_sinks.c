@@ -14,6 +14,7 @@
  * a sink as if it were at -inf: sinks are queued first (in id order) and no cell is
  * raised or carved because of a sink's own height. This matters for lakes and map
  * edges; ocean sinks are below every land cell anyway. */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include "pg_array.h"
@@ -190,7 +191,7 @@ pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uin
                      pits_heap *q, uint64_t *nsinks, pg_error *err) {
     pg_status s = pits_validate(t, o, err);
     if (s) return s;
-    uint8_t *st = malloc(t->ncells);
+    uint8_t *st = pg_huge_malloc(t->ncells);
     if (!st)
         return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for %llu cells",
                             (unsigned long long)t->ncells);

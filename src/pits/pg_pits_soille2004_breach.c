@@ -31,6 +31,7 @@
  * after the sweep each parent is strictly below (epsilon) or not above (plain) each
  * child, so that path descends (the last step enters a sink, an outlet). Heights
  * only go down. Ties pop in (height, id) order, so the result is deterministic. */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -95,8 +96,8 @@ static pg_status breach(const pg_pits_topo *t, float *h, const pg_pits_opts *o, 
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &b.st, &q, &nsinks, err);
     if (s) return s;
-    b.children = calloc(t->ncells, 1);
-    b.order = malloc(t->ncells * sizeof *b.order);
+    b.children = pg_huge_calloc(t->ncells, 1);
+    b.order = pg_huge_malloc(t->ncells * sizeof *b.order);
     if (fill) { /* the sinks keep their height; not all of them are queued */
         const int64_t n = (int64_t)t->ncells;
 #pragma omp parallel for schedule(static)

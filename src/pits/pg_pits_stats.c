@@ -9,6 +9,7 @@
  * them a slope, but water already leaves them); this makes the count 0 after every
  * method here, plain or epsilon. Regions are found with a FIFO flood through the same
  * neighbour interface, so a basin straddling a face seam counts once. */
+#include "pg_huge.h"
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
@@ -86,7 +87,7 @@ static pg_status fill_copy(const pg_pits_topo *t, const float *h, const pg_pits_
     pg_pits_opts f = *o;
     f.method = PG_PITS_FILL;
     f.epsilon = eps;
-    float *c = malloc(t->ncells * sizeof *c);
+    float *c = pg_huge_malloc(t->ncells * sizeof *c);
     if (!c) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     memcpy(c, h, t->ncells * sizeof *c);
     pg_pits_result res = {0};
@@ -119,7 +120,7 @@ pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts
  * checks out (pits_eps_from_fill), else from its own flood of h. */
 static pg_status eps_surface(const pg_pits_topo *t, const float *h, float *f, const pg_pits_opts *o,
                              float **efill, pg_error *err) {
-    float *w = malloc(t->ncells * sizeof *w);
+    float *w = pg_huge_malloc(t->ncells * sizeof *w);
     if (!w) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     int exact = 0;
     uint64_t nsinks = 0;
@@ -161,7 +162,7 @@ static pg_status no_depression(const pg_pits_topo *t, const float *h, const pg_p
                                int *none, uint64_t *nsinks, pg_error *err) {
     pg_pits_opts f = *o;
     f.method = PG_PITS_FILL;
-    float *c = malloc(t->ncells * sizeof *c); /* pits_begin writes -inf into no-data */
+    float *c = pg_huge_malloc(t->ncells * sizeof *c); /* pits_begin writes -inf into no-data */
     if (!c) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     memcpy(c, h, t->ncells * sizeof *c);
     uint8_t *st = NULL;
@@ -231,7 +232,7 @@ pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const flo
                                 pg_pits_stats *st, pg_error *err) {
     memset(st, 0, sizeof *st);
     st->sinks = nsinks;
-    uint8_t *dep = malloc(t->ncells);
+    uint8_t *dep = pg_huge_malloc(t->ncells);
     if (!dep) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     mark_raised(t->ncells, h, fill, dep);
     int oom = pits_count_regions(t, h, dep, efill, area, st);

@@ -10,6 +10,7 @@
  * the file and the exemplar cube the coordinates refer to; a map that planet.json
  * names must load completely and in range, or the planet is refused: the measures
  * that read it (pg_inspect_copy.h) index the exemplar cube with it. */
+#include "pg_huge.h"
 #include "planetgen/pg_planet.h"
 #include "planetgen/pg_planet_tiles.h"
 
@@ -43,8 +44,8 @@ pg_status pg_planet_alloc(pg_planet *p, pg_cube_projection proj, int tiles, int 
     planet_fields(p, proj, tiles, tile_size, ell);
     size_t nn = (size_t)p->n * (size_t)p->n;
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
-        p->albedo[f] = calloc(nn * 3, sizeof(float));
-        p->height[f] = calloc(nn, sizeof(float));
+        p->albedo[f] = pg_huge_calloc(nn * 3, sizeof(float));
+        p->height[f] = pg_huge_calloc(nn, sizeof(float));
         if (!p->albedo[f] || !p->height[f]) {
             pg_planet_free(p);
             return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate a planet of 6 x %lld^2",

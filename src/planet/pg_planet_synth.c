@@ -26,6 +26,7 @@
  * Gain-pit (after each pass, whole planet) keep that property: each reads only values
  * the sub-pass did not write, or runs on the whole planet with a deterministic
  * algorithm. */
+#include "pg_huge.h"
 #include "pg_planet_synth_internal.h"
 #include "pg_planet_synth_testing.h"
 #include "pg_span.h"
@@ -234,7 +235,7 @@ static pg_status heights_alloc(const pg_ps_ctx *c, bool whole, float **H, pg_spa
                                pg_error *err) {
     const size_t n = (size_t)c->Nout, px = 6 * n * n;
     if (whole) {
-        *H = malloc(px * sizeof **H);
+        *H = pg_huge_malloc(px * sizeof **H);
         return *H ? PG_OK
                   : pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (heights)");
     }
@@ -320,7 +321,7 @@ pg_status pg_planet_synth_run_testing(const pg_synth_exemplar *ex, const pg_plan
     }
     t0 = pg_synth_now();
     if (!st) st = planet_alloc(&c, whole, out, err);
-    if (!st && coords_out && !(*coords_out = malloc(px * sizeof(uint32_t))))
+    if (!st && coords_out && !(*coords_out = pg_huge_malloc(px * sizeof(uint32_t))))
         st = pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory (coords)");
     /* layout world: the sea ice goes on as each texel is delivered */
     pg_sea_ice ice;

@@ -9,6 +9,7 @@
  * Every operation works per owned tile when the distribution hooks are set (docs/mpi.md,
  * "What is distributed, and how"): a tile's texels depend only on values the hooks'
  * exchange provides, so every process computes the same bits as a single one. */
+#include "pg_huge.h"
 #include "pg_planet_synth_internal.h"
 
 #include <math.h>
@@ -61,7 +62,7 @@ pg_status pg_ps_rows_alloc(const pg_ps_ctx *c, const pg_ps_window *w, int r, int
     *span = (pg_span){0};
     *out = NULL;
     if (!c->p->dist) {
-        *out = zero ? calloc(bytes, 1) : malloc(bytes);
+        *out = zero ? pg_huge_calloc(bytes, 1) : pg_huge_malloc(bytes);
         return *out ? PG_OK
                     : pg_error_set(err, PG_ERR_NOMEM, "planet synthesis: out of memory at %d^2", r);
     }

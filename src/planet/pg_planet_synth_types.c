@@ -7,6 +7,7 @@
  * The fix-up runs on the texels of the sub-pass's parity class in the same view and
  * reads only its neighbours (of the other classes) and hashed draws, so it keeps the
  * sub-pass's independence of tile size, order and thread count. */
+#include "pg_huge.h"
 #include "pg_planet_synth_internal.h"
 #include "pg_vec3.h"
 
@@ -38,7 +39,7 @@ pg_status pg_ps_types_setup(pg_ps_ctx *c, pg_error *err) {
             at[k][t] = sum, sum += n;
         }
         c->nvalid[t] = sum;
-        c->valid[t] = malloc((sum + 1) * sizeof(uint32_t));
+        c->valid[t] = pg_huge_malloc((sum + 1) * sizeof(uint32_t));
         if (!c->valid[t]) return free(at), pg_error_set(err, PG_ERR_NOMEM, "types: out of memory");
     }
     const int E = ex->face_size;

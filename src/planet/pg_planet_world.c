@@ -19,6 +19,7 @@
  *   elevation < 1000 m         no mountain (high ground only where the plates raised it:
  *                              the belts along convergent boundaries and the plateaus)
  * Everything else allows every type; a pixel the rules leave empty allows every type. */
+#include "pg_huge.h"
 #include "planetgen/pg_planet_synth.h"
 
 #include "planetgen/pg_climate.h"
@@ -174,8 +175,9 @@ pg_status pg_planet_world_types(const pg_planet_world *w, int width, pg_types_ma
     if (st) return st;
     const int height = width / 2;
     const size_t np = (size_t)width * height;
-    float *t = malloc(np * sizeof *t), *p = malloc(np * sizeof *p), *h = malloc(np * sizeof *h);
-    out->mask = malloc(np);
+    float *t = pg_huge_malloc(np * sizeof *t), *p = pg_huge_malloc(np * sizeof *p),
+          *h = pg_huge_malloc(np * sizeof *h);
+    out->mask = pg_huge_malloc(np);
     if (!t || !p || !h || !out->mask) {
         free(t), free(p), free(h), pg_types_map_free(out);
         return pg_error_set(err, PG_ERR_NOMEM, "layout world: out of memory");
