@@ -108,26 +108,23 @@ pg_status pg_planet_world_exemplar_hypsometry(const pg_synth_exemplar *ex, int64
  * leaves the heights alone. The exemplar lends the ice colour: the mean of its finest
  * texels of type ice, read from types (pg_types_exemplar's array, which the synthesis
  * already holds) or, with types NULL, classified here; ex may be NULL: snow white.
- * Caller-owned context; the noise grids are freed by pg_sea_ice_free. Every value is a
- * hash of (seed, level, lattice point): the same for any thread count, tiling or rank
- * count. */
-#define PG_SEA_ICE_OCTAVES 11
+ * Caller-owned context, freed by pg_sea_ice_free. Every value is a hash of (seed, level,
+ * lattice point): the same for any thread count, tiling or rank count. */
 typedef struct pg_sea_ice {
     const pg_planet_world *world;
     int64_t nout; /* delivered texels per face edge */
+    uint64_t seed;
     float ice_rgb[3];
     pg_cube_grid wgrid;
-    float *warm_min;           /* per world texel, the least temperature of its 2 x 2 block */
-    bool sample_all;           /* testing: sample every texel, without the warm_min shortcut */
-    int r[PG_SEA_ICE_OCTAVES]; /* grid texels a face edge */
-    float *noise[PG_SEA_ICE_OCTAVES]; /* 6 (r + 1)^2 vertex values */
+    float *warm_min; /* per world texel, the least temperature of its 2 x 2 block */
+    bool sample_all; /* testing: sample every texel, without the warm_min shortcut */
 } pg_sea_ice;
 
 pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synth_exemplar *ex,
                           const uint8_t *types, uint64_t seed, int64_t nout, pg_error *err);
 void pg_sea_ice_free(pg_sea_ice *s);
 /* The bytes pg_sea_ice_init allocates for a planet of nout texels a face edge and a
- * world of world_n (the noise grids: 2.3 MB at nout = 1024, at most 51 MB). */
+ * world of world_n (one float a world texel; the noises are computed, not stored). */
 double pg_sea_ice_bytes(int64_t nout, int64_t world_n);
 /* The world size pg_planet_synth_bytes assumes before the world exists: generate's
  * warped detail world, 4 x 64 texels a face edge (docs/generate.md, "Warped detail"). */

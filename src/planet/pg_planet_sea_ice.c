@@ -20,28 +20,26 @@
  *   thousand kilometres, makes the edge meander (A_EDGE = 0.5: about +-2 K, so water warmer than
  *   T_NONE = -2 deg C is always open).
  *   Floes and leads: the texel is ice where the floe noise n_floe (features of 4 to 32
- *   delivered texels) lies below c, with a soft step of width W_STEP; so the covered
- *   share rises with c, the pack (C_MAX < 1) keeps a few leads, and the margin breaks
- *   into floes.
+ *   delivered texels, about 1/2 with standard deviation 0.13) lies below c, with a soft
+ *   step of width W_STEP; so the covered share rises with c, the pack (C_MAX < 1) keeps a
+ *   few holes, and the margin breaks into floes.
  *   Colour: the mean albedo of the exemplar's ice texels (the pg_types rule: its ice
  *   sheets' snow), times a tone of 0.89..1 from a noise of 64 to 128
  *   texels; thin ice is greyer: at the margin it keeps up to 35% of the water below it as
- *   c falls to 0, along the leads (the contour n = 1/2 of a noise of 16 to 32 texels, open where
- *   the tone noise is above its middle) 70%.
+ *   c falls to 0, along the leads 70%. The leads are the edges of a Voronoi network of
+ *   cells of about 96 texels (straight cracks that meet at angles), open only where the
+ *   tone noise is above 0.55, so the network breaks into separate cracks.
  *   Where c is 0 the texel is not touched (bit for bit).
  *
- * NOISE. Value noise on the cube's grid lines: a grid of r texels per face edge has
- * (r + 1)^2 vertices a face, and each vertex is a point of the integer lattice of the
- * cube's surface, P = r (1,1,1) + r n + (2i - r) e_u + (2j - r) e_v with the face frame
- * (pg_cube_face_frame), the same point for every face that shares it. The vertex holds
- * pg_synth_hash(seed, log2 r, P) / 2^32, and a delivered texel takes the value of its
- * grid square, interpolated bilinearly between the square's four vertices. A seam's vertices are
- * shared, so the ice crosses every seam and cube corner without a step (sampling a texel-centred
- * grid across a corner extrapolates a missing texel, which each face does its own way), and every
- * value is a hash of (seed, level, lattice point): the same for any thread count, tiling or rank
- * count. The grids are at most SEA_ICE_MAX_R a face edge: 2.3 MB for a planet of 1024 a
- * face edge, at most 51 MB (pg_sea_ice_bytes). Above faces of 2048 the capped octaves
- * stretch: at 16384 every floe octave is 32 delivered texels, not 4 to 32. */
+ * NOISE. Every noise is a function of the texel's direction on the unit sphere, not of its
+ * face coordinates: gradient noise (Perlin 2002) on the integer lattice of space, scaled
+ * to the octave's wavelength, and a Voronoi network (Worley 1996) on the same kind of
+ * lattice. So the ice crosses every seam and cube corner without a step, and nothing
+ * lines up with the cube's texel grid: value noise on cube grids, interpolated
+ * bilinearly, bent at every grid line and gave the margin square blobs of 4 texels. Every
+ * lattice value is a hash of (seed, level, lattice point): the same for any thread count,
+ * tiling or rank count. Nothing is stored but the warm-water table (pg_sea_ice_bytes), and
+ * the octaves keep their wavelengths in delivered texels at every planet size. */
 #include "planetgen/pg_planet_synth.h"
 
 #include "planetgen/pg_climate.h"
@@ -59,17 +57,23 @@
 #define T_NONE (T_OPEN + A_EDGE / 2 * (T_OPEN - T_PACK))
 #define W_STEP 0.2
 #define THIN_KEEP 0.35
-#define LEAD_W 0.01
 #define LEAD_KEEP 0.7
-#define SEA_ICE_MAX_R 512
 #define SALT 0x5eac1ce
+/* the standard deviation of one octave of gradient_noise (measured over 4 M random points:
+ * 0.270), and those the noises are given (noise()) */
+#define GRAD_SD 0.27
+#define SD_EDGE 0.15
+#define SD_FLOES 0.13
+#define SD_TONE 0.15
+/* leads: where the Voronoi edges of a cell network lie within LEAD_W_TEX delivered texels */
+#define LEAD_W_TEX 0.7
 
-/* the noises' octaves: grid texels per face edge, as a divisor of the delivered face
- * (0: a fixed r) */
+/* The noises' octaves: wavelengths in delivered texels (div: nout / div cells a face edge)
+ * or in face edges (r cells a face edge), as the value noise on cube grids had them. */
 static const struct {
     int div, r;
     double w;
-} octaves[PG_SEA_ICE_OCTAVES] = {
+} octaves[] = {
     /* edge: a thousand kilometres and finer on an Earth-sized face */
     {0, 8, 0.5},
     {0, 16, 0.3},
@@ -82,23 +86,114 @@ static const struct {
     /* tone */
     {64, 0, 0.6},
     {128, 0, 0.4},
-    /* leads: the contour n = 1/2 of a noise of 16 to 32 texels */
-    {16, 0, 0.6},
-    {32, 0, 0.4},
 };
+#define EDGE 0, 3
+#define FLOES 3, 7
+#define TONE 7, 9
+/* leads: the edges of a Voronoi network of cells of LEAD_DIV delivered texels */
+#define LEAD_DIV 96
 
-static int octave_r(int i, int64_t nout) {
-    int64_t r = octaves[i].div ? nout / octaves[i].div : octaves[i].r;
-    if (r > SEA_ICE_MAX_R) r = SEA_ICE_MAX_R;
-    if (r > nout) r = nout;
-    return r < 2 ? 2 : (int)r;
+/* Cells per unit length of the unit sphere for a wavelength of r cells a face edge: a face
+ * edge spans a quarter circle. */
+static double frequency(double r) {
+    return r / (M_PI / 2);
 }
 
-static int log2i(int r) {
-    int l = 0;
-    while ((1 << (l + 1)) <= r)
-        l++;
-    return l;
+static double octave_frequency(int i, int64_t nout) {
+    return frequency(octaves[i].div ? (double)nout / octaves[i].div : octaves[i].r);
+}
+
+static double fade(double t) {
+    return t * t * t * (t * (t * 6 - 15) + 10);
+}
+
+/* Gradient noise (Perlin 2002, "Improving noise", SIGGRAPH) at point p of the integer
+ * lattice: each lattice point holds one of the 12 gradients (+-1, +-1, 0) and their
+ * turns, drawn from pg_synth_hash(seed, level, lattice point, salt); the eight around p
+ * are blended with the quintic fade, so the field is smooth across every cell face and
+ * shows no grid. About -1..1, standard deviation GRAD_SD. */
+static double gradient_noise(uint64_t seed, int level, int salt, const double p[3]) {
+    double f[3], w[3], v[8];
+    long c[3];
+    for (int a = 0; a < 3; a++) {
+        const double fl = floor(p[a]);
+        c[a] = (long)fl, f[a] = p[a] - fl, w[a] = fade(f[a]);
+    }
+    for (int k = 0; k < 8; k++) {
+        const int dx = k & 1, dy = k >> 1 & 1, dz = k >> 2;
+        const uint32_t h = pg_synth_hash(seed, level, (int)(c[2] + dz), c[0] + dx, c[1] + dy, salt);
+        const double x = f[0] - dx, y = f[1] - dy, z = f[2] - dz;
+        const uint32_t g = h % 12; /* pair of axes g / 4, their signs g & 3 */
+        const double g0 = g & 1 ? -1 : 1, g1 = g & 2 ? -1 : 1;
+        v[k] = g < 4 ? g0 * x + g1 * y : g < 8 ? g0 * x + g1 * z : g0 * y + g1 * z;
+    }
+    const double x00 = v[0] + w[0] * (v[1] - v[0]), x10 = v[2] + w[0] * (v[3] - v[2]);
+    const double x01 = v[4] + w[0] * (v[5] - v[4]), x11 = v[6] + w[0] * (v[7] - v[6]);
+    const double y0 = x00 + w[1] * (x10 - x00), y1 = x01 + w[1] * (x11 - x01);
+    return y0 + w[2] * (y1 - y0);
+}
+
+/* The weighted sum of octaves [i0, i1) at direction d, as a value about 1/2 with standard
+ * deviation sd, clamped to 0..1: the spread of the mean of hashed vertex values that the
+ * value noise on cube grids had, which set how wide the margin of floes is. */
+static double noise(const pg_sea_ice *s, int i0, int i1, const double d[3], double sd) {
+    double acc = 0, var = 0;
+    for (int i = i0; i < i1; i++) {
+        const double F = octave_frequency(i, s->nout), p[3] = {d[0] * F, d[1] * F, d[2] * F};
+        acc += octaves[i].w * gradient_noise(s->seed, i, SALT + i, p);
+        var += octaves[i].w * octaves[i].w;
+    }
+    const double n = 0.5 + sd * acc / (GRAD_SD * sqrt(var));
+    return n < 0 ? 0 : n > 1 ? 1 : n;
+}
+
+/* How near direction d lies to an edge of the Voronoi network of cells of div delivered
+ * texels (one feature point per lattice cube, at a hashed place in it; Worley 1996, "A
+ * cellular texture basis function", SIGGRAPH): 1 on the edge, falling to 0 at LEAD_W_TEX
+ * texels from it. The edges are straight in the lattice and meet at angles, as leads do. */
+static double lead_edge(const pg_sea_ice *s, const double d[3]) {
+    const double F = frequency((double)s->nout / LEAD_DIV);
+    const double p[3] = {d[0] * F, d[1] * F, d[2] * F};
+    const long c[3] = {(long)floor(p[0]), (long)floor(p[1]), (long)floor(p[2])};
+    double f1 = INFINITY, f2 = INFINITY;
+    double q1[3] = {0, 0, 0}, q2[3] = {0, 0, 0};
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                const long x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                double q[3] = {(double)x, (double)y, (double)z}, dd = 0;
+                for (int a = 0; a < 3; a++) {
+                    const uint32_t h = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 100 + a);
+                    q[a] += h * (1.0 / 4294967296.0);
+                    dd += (q[a] - p[a]) * (q[a] - p[a]);
+                }
+                if (dd < f1) {
+                    f2 = f1, f1 = dd;
+                    memcpy(q2, q1, sizeof q1), memcpy(q1, q, sizeof q);
+                } else if (dd < f2) {
+                    f2 = dd, memcpy(q2, q, sizeof q);
+                }
+            }
+    /* the distance from p to the bisector of its two nearest feature points */
+    double m = 0, nn = 0;
+    for (int a = 0; a < 3; a++) {
+        const double n = q2[a] - q1[a];
+        m += n * (p[a] - 0.5 * (q1[a] + q2[a]));
+        nn += n * n;
+    }
+    const double dist = fabs(m) / sqrt(nn) / F;                /* on the unit sphere */
+    const double texels = dist / (M_PI / 2) * (double)s->nout; /* in delivered texels */
+    return texels >= LEAD_W_TEX ? 0 : 1 - texels / LEAD_W_TEX;
+}
+
+/* The unit direction of delivered texel (f, X, Y). */
+static void texel_dir(const pg_sea_ice *s, int f, int64_t X, int64_t Y, double d[3]) {
+    const double u = (2.0 * (double)X + 1.0) / (double)s->nout - 1.0;
+    const double v = (2.0 * (double)Y + 1.0) / (double)s->nout - 1.0;
+    pg_cube_to_dir(PG_CUBE_DEFAULT_PROJECTION, f, u, v, d);
+    const double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int a = 0; a < 3; a++)
+        d[a] /= r;
 }
 
 /* The exemplar's ice colour: the mean sRGB of its finest texels of type ice (types[t],
@@ -124,10 +219,8 @@ static void ice_colour(const pg_synth_exemplar *ex, const uint8_t *types, float 
 }
 
 double pg_sea_ice_bytes(int64_t nout, int64_t world_n) {
-    double b = 6.0 * (double)world_n * (double)world_n * sizeof(float);
-    for (int i = 0; i < PG_SEA_ICE_OCTAVES; i++)
-        b += 6.0 * (octave_r(i, nout) + 1) * (octave_r(i, nout) + 1) * sizeof(float);
-    return b;
+    (void)nout; /* the noises are computed where they are needed, not stored */
+    return 6.0 * (double)world_n * (double)world_n * sizeof(float);
 }
 
 pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synth_exemplar *ex,
@@ -137,6 +230,7 @@ pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synt
         return pg_error_set(err, PG_ERR_BADINPUT, "sea ice: no macro world");
     s->world = w;
     s->nout = nout;
+    s->seed = seed;
     pg_cube_sample_grid_init(&s->wgrid, PG_CUBE_DEFAULT_PROJECTION, w->n);
     ice_colour(ex, types, s->ice_rgb);
     const int64_t wn = w->n;
@@ -155,64 +249,12 @@ pg_status pg_sea_ice_init(pg_sea_ice *s, const pg_planet_world *w, const pg_synt
         }
         s->warm_min[k] = m;
     }
-    for (int i = 0; i < PG_SEA_ICE_OCTAVES; i++) {
-        const int r = octave_r(i, nout), lr = log2i(r), v = r + 1;
-        s->r[i] = r;
-        s->noise[i] = malloc((size_t)6 * v * v * sizeof(float));
-        if (!s->noise[i]) {
-            pg_sea_ice_free(s);
-            return pg_error_set(err, PG_ERR_NOMEM, "sea ice: out of memory");
-        }
-        float *g = s->noise[i];
-#pragma omp parallel for schedule(static)
-        for (int64_t k = 0; k < (int64_t)6 * v * v; k++) {
-            const int f = (int)(k / ((int64_t)v * v)), vi = (int)(k % v), vj = (int)(k / v % v);
-            int n[3], eu[3], ev[3];
-            long P[3];
-            pg_cube_face_frame(f, n, eu, ev);
-            for (int a = 0; a < 3; a++)
-                P[a] = (long)r + (long)r * n[a] + (long)(2 * vi - r) * eu[a] +
-                       (long)(2 * vj - r) * ev[a];
-            g[k] = (float)(pg_synth_hash(seed, lr, (int)P[2], P[0], P[1], SALT + i) *
-                           (1.0 / 4294967296.0));
-        }
-    }
     return PG_OK;
 }
 
 void pg_sea_ice_free(pg_sea_ice *s) {
-    for (int i = 0; i < PG_SEA_ICE_OCTAVES; i++)
-        free(s->noise[i]);
     free(s->warm_min);
     memset(s, 0, sizeof *s);
-}
-
-/* Where a delivered texel's centre lies on a grid of r texels a face edge: the square
- * *i (0..r-1) and the weight *t of its far vertex. Linear: eased weights flatten the
- * field across every grid line, and the face seams are grid lines, so the seams would
- * come out smoother than the ground beside them. */
-static void grid_pos(int64_t X, int64_t nout, int r, int *i, double *t) {
-    const double g = ((double)X + 0.5) * r / (double)nout;
-    int k = (int)g;
-    if (k > r - 1) k = r - 1;
-    *i = k, *t = g - k;
-}
-
-/* The weighted mean of octaves [i0, i1) at delivered texel (f, X, Y). */
-static double noise(const pg_sea_ice *s, int i0, int i1, int f, int64_t X, int64_t Y) {
-    double acc = 0, wsum = 0;
-    for (int i = i0; i < i1; i++) {
-        const int r = s->r[i], v = r + 1;
-        int x, y;
-        double tx, ty;
-        grid_pos(X, s->nout, r, &x, &tx);
-        grid_pos(Y, s->nout, r, &y, &ty);
-        const float *q = s->noise[i] + ((size_t)f * v + (size_t)y) * v + (size_t)x;
-        const double a = q[0] + tx * (q[1] - q[0]), b = q[v] + tx * (q[v + 1] - q[v]);
-        acc += octaves[i].w * (a + ty * (b - a));
-        wsum += octaves[i].w;
-    }
-    return acc / wsum;
 }
 
 /* The world's temperature at world point (fx, fy) of face f. */
@@ -238,30 +280,39 @@ static bool surely_open(const pg_sea_ice *s, int f, double fx, double fy) {
            T_NONE + 1e-3;
 }
 
-double pg_sea_ice_cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y) {
+/* The cover target at delivered texel (f, X, Y); d gets the texel's direction wherever
+ * the target can be above 0. */
+static double cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y, double d[3]) {
     const double k = (double)s->world->n / (double)s->nout;
     const double fx = (X + 0.5) * k - 0.5, fy = (Y + 0.5) * k - 0.5;
     if (!s->sample_all && surely_open(s, f, fx, fy)) return 0;
     const double t = temperature_at(s, f, fx, fy);
     if (!(t < T_NONE)) return 0; /* no edge noise reaches it (and no NaN goes on) */
     const double u = (T_OPEN - t) / (T_OPEN - T_PACK);
-    const double c = u + A_EDGE * (noise(s, 0, 3, f, X, Y) - 0.5);
+    texel_dir(s, f, X, Y, d);
+    const double c = u + A_EDGE * (noise(s, EDGE, d, SD_EDGE) - 0.5);
     return c <= 0 ? 0 : c > C_MAX ? C_MAX : c;
+}
+
+double pg_sea_ice_cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y) {
+    double d[3];
+    return cover(s, f, X, Y, d);
 }
 
 bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float height,
                       float sea_level, float rgb[3]) {
     if (height > sea_level) return false;
-    const double c = pg_sea_ice_cover(s, f, X, Y);
+    double d[3];
+    const double c = cover(s, f, X, Y, d);
     if (c <= 0) return false;
-    double a = (c - noise(s, 3, 7, f, X, Y)) / W_STEP + 0.5;
+    double a = (c - noise(s, FLOES, d, SD_FLOES)) / W_STEP + 0.5;
     a = a < 0 ? 0 : a > 1 ? 1 : a;
     if (a <= 0) return false;
-    const double nt = noise(s, 7, 9, f, X, Y), tone = 0.945 + 0.11 * (nt - 0.5);
-    /* a lead is open where the tone noise is above its middle, so the contour breaks
-     * into separate cracks instead of closing into loops */
-    const double open = fmin(1.0, fmax(0.0, (nt - 0.5) * 8));
-    const double lead = open * (1 - fmin(1.0, fabs(noise(s, 9, 11, f, X, Y) - 0.5) / LEAD_W));
+    const double nt = noise(s, TONE, d, SD_TONE), tone = 0.945 + 0.11 * (nt - 0.5);
+    /* a lead is open where the tone noise is above its middle, so the network breaks
+     * into separate cracks instead of closing into cells */
+    const double open = fmin(1.0, fmax(0.0, (nt - 0.55) * 8));
+    const double lead = open > 0 ? open * lead_edge(s, d) : 0;
     /* thin ice shows the water: at the margin, and along the leads */
     const double keep = fmax(THIN_KEEP * (1 - c / C_MAX), LEAD_KEEP * lead);
     for (int j = 0; j < 3; j++) {
