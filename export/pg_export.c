@@ -6,6 +6,7 @@
  * height are encoded (PNG/JPEG bytes in memory) and the floats freed before the
  * next face. The encoded bytes then go to the tinygltf adapter (pg_gltf.cpp), or to
  * separate files with --external-textures. */
+#include "pg_huge.h"
 #include "pg_export_encode.h"
 #include "pg_export_internal.h"
 #include "pg_gltf.h"
@@ -178,7 +179,7 @@ static pg_status reuse_slot(const glb_part *gp, glb_images *gi, int k, const uin
 /* The window's texels of a face array (ch floats a texel), rows bottom-up. */
 static float *cut_window(const glb_part *gp, const float *face, int ch) {
     size_t w = (size_t)gp->w;
-    float *out = malloc(w * w * (size_t)ch * sizeof(float));
+    float *out = pg_huge_malloc(w * w * (size_t)ch * sizeof(float));
     for (size_t y = 0; out && y < w; y++)
         memcpy(out + y * w * ch,
                face + (((size_t)gp->y0 + y) * (size_t)gp->p->n + (size_t)gp->x0) * ch,
@@ -211,7 +212,7 @@ static pg_status encode_job(const glb_part *gp, const pg_export_opts *o, double 
     else if (k == 2 && !whole)
         data = cut_window(gp, p->height[f], 1);
     else
-        data = malloc(nn * (size_t)ch[k] * sizeof(float));
+        data = pg_huge_malloc(nn * (size_t)ch[k] * sizeof(float));
     pg_status st = data ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate textures");
     if (st == PG_OK && k == 1)
         st = pg_export_normal_map(gp->h, gp->g, gp->mesh, o->exaggeration, f, gp->x0, gp->y0, gp->w,

@@ -17,6 +17,7 @@
  * differences along two surface directions, which fix it in the tangent plane. So it is
  * the relief at the scale the render shows, and one cube sample a pixel suffices. The
  * relief is shaded, not displaced: at globe scale its silhouette is invisible anyway. */
+#include "pg_huge.h"
 #include "pg_export_internal.h"
 #include "planetgen/pg_relief.h"
 
@@ -55,7 +56,7 @@ static pg_status reduce(const pg_planet *p, const pg_export_opts *o, reduced *r,
     const int64_t k = reduce_factor(p->n, need > gs ? need : gs);
     r->n = p->n / k;
     size_t nn = (size_t)r->n * r->n;
-    r->cube = calloc(6 * nn * 4, sizeof(float));
+    r->cube = pg_huge_calloc(6 * nn * 4, sizeof(float));
     if (!r->cube) return pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the preview planet");
     for (int f = 0; f < PG_CUBE_NFACES; f++) {
 #pragma omp parallel for schedule(static)
@@ -104,7 +105,7 @@ static pg_status write_pngs(int n, const char *const *names, const pg_image *img
 static pg_status equirect_previews(const pg_planet *p, const reduced *r, const pg_export_opts *o,
                                    pg_image *out, pg_error *err) {
     int w = equirect_width(o, p->n), h = w / 2;
-    float *img4 = malloc((size_t)w * h * 4 * sizeof(float));
+    float *img4 = pg_huge_malloc((size_t)w * h * 4 * sizeof(float));
     pg_image *rgb = &out[0], *rel = &out[1];
     pg_status st = img4 ? PG_OK : pg_error_set(err, PG_ERR_NOMEM, "cannot allocate previews");
     if (st == PG_OK)
@@ -277,7 +278,7 @@ static pg_status globe_renders(const pg_planet *p, const reduced *r, const pg_ex
                    .b = p->ellipsoid.a * (1 - p->ellipsoid.f)};
     c.ext = 1.04 * c.a;
     pg_status st = pg_cube_grid_init(&c.g, p->projection, (int)r->n, 1, err);
-    globe_px *buf = st == PG_OK ? malloc((size_t)size * size * sizeof *buf) : NULL;
+    globe_px *buf = st == PG_OK ? pg_huge_malloc((size_t)size * size * sizeof *buf) : NULL;
     if (st == PG_OK && !buf) st = pg_error_set(err, PG_ERR_NOMEM, "cannot allocate the globes");
     for (int v = 0; st == PG_OK && v < NGLOBES; v++) {
         st = pg_image_alloc(&out[v], size, size, 3, err);
