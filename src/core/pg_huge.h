@@ -7,7 +7,8 @@
  * TLB misses when the array is read at random (the synthesis tables, the labels of
  * the tiled fill).
  *
- * Ownership: the caller frees the block with free(). The memory is not zeroed.
+ * Ownership: the caller frees the block with free(), and may realloc() it (the new block
+ * keeps malloc's alignment only). The memory is not zeroed, except pg_huge_calloc's.
  * Library-internal: not part of the installed API. */
 #ifndef PG_HUGE_H
 #define PG_HUGE_H
