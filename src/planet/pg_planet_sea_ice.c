@@ -147,41 +147,70 @@ static double noise(const pg_sea_ice *s, int i0, int i1, const double d[3], doub
     return n < 0 ? 0 : n > 1 ? 1 : n;
 }
 
-/* How near direction d lies to an edge of the Voronoi network of cells of div delivered
- * texels (one feature point per lattice cube, at a hashed place in it; Worley 1996, "A
- * cellular texture basis function", SIGGRAPH): 1 on the edge, falling to 0 at LEAD_W_TEX
- * texels from it. The edges are straight in the lattice and meet at angles, as leads do. */
+/* The 27 cubes around a point, its own first, then those across a face, an edge and a
+ * corner: the nearer cubes come first, so that the far ones can be skipped (lead_edge). */
+static const int lead_order[27][3] = {
+    {0, 0, 0},   {-1, 0, 0},  {1, 0, 0},   {0, -1, 0}, {0, 1, 0},   {0, 0, -1},   {0, 0, 1},
+    {-1, -1, 0}, {1, -1, 0},  {-1, 1, 0},  {1, 1, 0},  {-1, 0, -1}, {1, 0, -1},   {-1, 0, 1},
+    {1, 0, 1},   {0, -1, -1}, {0, 1, -1},  {0, -1, 1}, {0, 1, 1},   {-1, -1, -1}, {1, -1, -1},
+    {-1, 1, -1}, {1, 1, -1},  {-1, -1, 1}, {1, -1, 1}, {-1, 1, 1},  {1, 1, 1}};
+
+/* How near direction d lies to an edge of the Voronoi network of cells of LEAD_DIV
+ * delivered texels (one feature point per lattice cube, at a hashed place in it; Worley
+ * 1996, "A cellular texture basis function", SIGGRAPH): 1 on the edge, falling to 0 at
+ * LEAD_W_TEX texels from it. The edges are straight in the lattice and meet at angles, as
+ * leads do. The search looks at the 27 cubes around p, which finds the nearest feature
+ * point always and the second nearest nearly always; a rare miss leaves a short gap in an
+ * edge, which on the ice is one more break between cracks. */
 static double lead_edge(const pg_sea_ice *s, const double d[3]) {
     const double F = frequency((double)s->nout / LEAD_DIV);
     const double p[3] = {d[0] * F, d[1] * F, d[2] * F};
     const long c[3] = {(long)floor(p[0]), (long)floor(p[1]), (long)floor(p[2])};
+    const double fr[3] = {p[0] - (double)c[0], p[1] - (double)c[1], p[2] - (double)c[2]};
     double f1 = INFINITY, f2 = INFINITY;
     double q1[3] = {0, 0, 0}, q2[3] = {0, 0, 0};
-    for (int dz = -1; dz <= 1; dz++)
-        for (int dy = -1; dy <= 1; dy++)
-            for (int dx = -1; dx <= 1; dx++) {
-                const long x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                double q[3] = {(double)x, (double)y, (double)z}, dd = 0;
-                for (int a = 0; a < 3; a++) {
-                    const uint32_t h = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 100 + a);
-                    q[a] += h * (1.0 / 4294967296.0);
-                    dd += (q[a] - p[a]) * (q[a] - p[a]);
-                }
-                if (dd < f1) {
-                    f2 = f1, f1 = dd;
-                    memcpy(q2, q1, sizeof q1), memcpy(q1, q, sizeof q);
-                } else if (dd < f2) {
-                    f2 = dd, memcpy(q2, q, sizeof q);
-                }
-            }
-    /* the distance from p to the bisector of its two nearest feature points */
-    double m = 0, nn = 0;
+    for (int k = 0; k < 27; k++) {
+        const int *o = lead_order[k];
+        /* the least squared distance from p to any point of this cube: when it is not
+         * below the second nearest so far, nothing in the cube can count */
+        double lb = 0;
+        for (int a = 0; a < 3; a++)
+            lb += o[a] < 0 ? fr[a] * fr[a] : o[a] > 0 ? (1 - fr[a]) * (1 - fr[a]) : 0;
+        if (lb >= f2) continue;
+        const long x = c[0] + o[0], y = c[1] + o[1], z = c[2] + o[2];
+        /* the feature point: 16 bits a coordinate from two hashes */
+        const uint32_t h0 = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 100);
+        const uint32_t h1 = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 101);
+        const double q[3] = {(double)x + (h0 & 0xffff) * (1.0 / 65536.0),
+                             (double)y + (h0 >> 16) * (1.0 / 65536.0),
+                             (double)z + (h1 & 0xffff) * (1.0 / 65536.0)};
+        double dd = 0;
+        for (int a = 0; a < 3; a++)
+            dd += (q[a] - p[a]) * (q[a] - p[a]);
+        if (dd < f1) {
+            f2 = f1, f1 = dd;
+            memcpy(q2, q1, sizeof q1), memcpy(q1, q, sizeof q);
+        } else if (dd < f2) {
+            f2 = dd, memcpy(q2, q, sizeof q);
+        }
+    }
+    /* The distance along the sphere from p to the bisector of its two nearest feature
+     * points: the plane n.(x - mid) = 0, n = q2 - q1, cuts the sphere in a curve, and
+     * walking on the sphere changes n.(x - mid) at the rate of n's part tangent to the
+     * sphere at d, n_t = n - (n.d) d. Measured in space instead, a plane that grazes
+     * the sphere gave a patch of thin ice tens of texels wide, not a crack. */
+    double m = 0, nd = 0, nt2 = 0;
     for (int a = 0; a < 3; a++) {
         const double n = q2[a] - q1[a];
         m += n * (p[a] - 0.5 * (q1[a] + q2[a]));
-        nn += n * n;
+        nd += n * d[a];
     }
-    const double dist = fabs(m) / sqrt(nn) / F;                /* on the unit sphere */
+    for (int a = 0; a < 3; a++) {
+        const double nt = q2[a] - q1[a] - nd * d[a];
+        nt2 += nt * nt;
+    }
+    if (!(nt2 > 1e-12)) return 0;                /* the plane touches the sphere here: no crack */
+    const double dist = fabs(m) / sqrt(nt2) / F; /* on the unit sphere */
     const double texels = dist / (M_PI / 2) * (double)s->nout; /* in delivered texels */
     return texels >= LEAD_W_TEX ? 0 : 1 - texels / LEAD_W_TEX;
 }
@@ -290,6 +319,7 @@ static double cover(const pg_sea_ice *s, int f, int64_t X, int64_t Y, double d[3
     if (!(t < T_NONE)) return 0; /* no edge noise reaches it (and no NaN goes on) */
     const double u = (T_OPEN - t) / (T_OPEN - T_PACK);
     texel_dir(s, f, X, Y, d);
+    if (u - A_EDGE / 2 >= C_MAX) return C_MAX; /* the pack, whatever the edge noise */
     const double c = u + A_EDGE * (noise(s, EDGE, d, SD_EDGE) - 0.5);
     return c <= 0 ? 0 : c > C_MAX ? C_MAX : c;
 }
@@ -309,7 +339,7 @@ bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float he
     a = a < 0 ? 0 : a > 1 ? 1 : a;
     if (a <= 0) return false;
     const double nt = noise(s, TONE, d, SD_TONE), tone = 0.945 + 0.11 * (nt - 0.5);
-    /* a lead is open where the tone noise is above its middle, so the network breaks
+    /* a lead is open where the tone noise is above 0.55, so the network breaks
      * into separate cracks instead of closing into cells */
     const double open = fmin(1.0, fmax(0.0, (nt - 0.55) * 8));
     const double lead = open > 0 ? open * lead_edge(s, d) : 0;

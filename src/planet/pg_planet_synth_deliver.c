@@ -125,7 +125,9 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, cons
     const int r = L->r, m = c->m;
     const float sea = c->ex->sea_level;
     uint64_t ok = 0, ocean = 0, iced = 0;
-#pragma omp parallel for schedule(static) reduction(+ : ok, ocean, iced)
+    /* rows in small chunks: the sea ice's work lies on the polar faces, which a static
+     * split by halves gave to one thread */
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : ok, ocean, iced)
     for (int64_t row = 0; row < 6 * n; row++) {
         int f = (int)(row / n);
         int64_t y = row % n;
