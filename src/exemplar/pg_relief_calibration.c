@@ -159,13 +159,14 @@ static void add_knot(pg_calibration *c, float grey, float metres) {
 }
 
 pg_status pg_calibration_marble_refs(const pg_image *relief, pg_calibration *c, pg_error *err) {
-    /* Comparisons rather than fminf/fmaxf, which are library calls: they vectorise and
-     * reduce in parallel, and give the same extremes (a NaN fails both comparisons, as
-     * fminf/fmaxf ignore it). */
+    /* Comparisons rather than fminf/fmaxf, which are library calls: they reduce in
+     * parallel (no "simd" clause: clang with the sanitizers cannot vectorise the loop
+     * and -Werror turns its notice into an error), and give the same extremes (a NaN
+     * fails both comparisons, as fminf/fmaxf ignore it). */
     float gmin = INFINITY, gmax = -INFINITY;
     const float *d = relief->data;
     const ptrdiff_t n = (ptrdiff_t)relief->width * relief->height;
-#pragma omp parallel for simd reduction(min : gmin) reduction(max : gmax)
+#pragma omp parallel for reduction(min : gmin) reduction(max : gmax)
     for (ptrdiff_t i = 0; i < n; i++) {
         gmin = d[i] < gmin ? d[i] : gmin;
         gmax = d[i] > gmax ? d[i] : gmax;
