@@ -44,6 +44,7 @@
 
 #include "planetgen/pg_climate.h"
 #include "planetgen/pg_types.h"
+#include "pg_vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -220,9 +221,7 @@ static void texel_dir(const pg_sea_ice *s, int f, int64_t X, int64_t Y, double d
     const double u = (2.0 * (double)X + 1.0) / (double)s->nout - 1.0;
     const double v = (2.0 * (double)Y + 1.0) / (double)s->nout - 1.0;
     pg_cube_to_dir(PG_CUBE_DEFAULT_PROJECTION, f, u, v, d);
-    const double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int a = 0; a < 3; a++)
-        d[a] /= r;
+    pg_vec3_normalize(d);
 }
 
 /* The exemplar's ice colour: the mean sRGB of its finest texels of type ice (types[t],
