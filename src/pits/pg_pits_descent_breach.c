@@ -163,7 +163,7 @@ static int fill_rest(descent *d, pits_heap *q, float *w) {
         for (uint64_t i = 0; i < d->t->ncells; i++)
             if (st[i] == PITS_OPEN && d->h[i] <= *d->sea_level) st[i] = PITS_SINK;
     pits_seed(d->t, st, q);
-    if (q->oom || pits_meps_compute(d->t, d->h, st, q, w, d->eps)) return -1;
+    if (q->oom || pits_meps_compute(d->t, d->h, NULL, st, q, w, d->eps)) return -1;
     for (uint64_t i = 0; i < d->t->ncells; i++)
         if (st[i] == PITS_CLOSED) d->h[i] = w[i];
     return 0;
@@ -191,12 +191,12 @@ pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opt
     float *fill = o->epsilon ? NULL : pg_huge_malloc(t->ncells * sizeof *fill);
     int oom = !d.v || !d.slot || !d.pending || (hybrid && !d.len) || (!o->epsilon && !fill);
     if (!oom && fill) { /* the minimal fill first, then the same sinks for W */
-        oom = pits_meps_compute(t, h, st, &q, fill, 0);
+        oom = pits_meps_compute(t, h, NULL, st, &q, fill, 0);
         for (uint64_t i = 0; i < t->ncells; i++)
             if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
         d.fill = fill;
     }
-    if (!oom) oom = pits_meps_compute(t, h, st, &q, d.v, 1);
+    if (!oom) oom = pits_meps_compute(t, h, fill ? NULL : o, st, &q, d.v, 1);
     if (!oom && w_out) /* W of the input, for the depression counts (pg_pits.c) */
         memcpy(w_out, d.v, t->ncells * sizeof *w_out);
     if (!oom) build_tree(&d);

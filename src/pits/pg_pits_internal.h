@@ -279,9 +279,11 @@ int pits_meps_flood(pits_meps *m, pits_heap *q);
 /* The minimal epsilon-surface of h (eps = 0: the minimal fill) into w, h unchanged:
  * st and q as pits_begin left them (sinks marked, the sinks touching non-sinks
  * queued; pits_seed queues them again); on return every non-sink cell is
- * PITS_CLOSED. Returns nonzero when out of memory. */
-int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
-                      float *w, int eps);
+ * PITS_CLOSED. o: the options pits_begin marked st with, when st holds exactly its
+ * sinks, so that the surface may come from a parallel fill instead of the flood
+ * (same bits); NULL: the flood. Returns nonzero when out of memory. */
+int pits_meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
+                      const pits_heap *q, float *w, int eps);
 /* The epsilon-surface of a plain fill's input from the fill f (states st from
  * pits_begin on f) into w, by distances on f's flats, checked against (1): 0 when w
  * is exact, nonzero when the check failed or memory ran out (then flood instead). */

@@ -110,7 +110,7 @@ static int slope(hybrid *s, pits_heap *q, float *w) {
         if (s->st[i] == PITS_CLOSED) s->st[i] = PITS_OPEN;
     pits_heap_free(q);
     pits_seed(s->t, s->st, q);
-    if (q->oom || pits_meps_compute(s->t, s->h, s->st, q, w, 1)) return -1;
+    if (q->oom || pits_meps_compute(s->t, s->h, NULL, s->st, q, w, 1)) return -1;
     for (uint64_t i = 0; i < s->t->ncells; i++)
         if (s->st[i] == PITS_CLOSED) s->h[i] = w[i];
     return 0;

@@ -34,6 +34,7 @@
 #include "pg_huge.h"
 #include "pg_pits_internal.h"
 
+#include <omp.h>
 #include <stdlib.h>
 
 /* Cells set to exactly up(w) of the cell being settled go to a FIFO instead of the
@@ -154,17 +155,77 @@ static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, 
     return oom;
 }
 
-static int meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
-                        float *w, int eps, float *fill) {
-    if (close_drained(t, h, st, q) || flood_rest(t, h, st, w, eps, fill)) return -1;
+/* W on several threads: the minimal fill F in parallel tiles (Barnes 2016), then W
+ * from F's flats (pits_meps_from_fill, its search shared among the threads and its
+ * result checked against (1)). W is the one solution of (1), so it is the flood's W
+ * bit for bit; only the time differs (the hard DEM, docs/pits.md: the flood is
+ * serial). For st fresh from pits_begin (sinks marked, nothing closed) on an input h
+ * without no-data (pits_begin would have made those cells -inf, which the fill's own
+ * start cannot tell from heights); F's sinks are h's: a sink keeps its height and
+ * every other cell only rises. Into fill (the minimal fill, wanted by the counts) when
+ * not NULL. Returns 0 when w holds W, with every non-sink cell closed as after the
+ * flood; nonzero when it fails (the caller floods). */
+static int by_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
+                   float *w, float *fill) {
+    float *f = fill ? fill : pg_huge_malloc(t->ncells * sizeof *f);
+    if (!f) return -1;
+    memcpy(f, h, t->ncells * sizeof *f);
+    pg_pits_opts fo = *o;
+    fo.method = PG_PITS_FILL;
+    fo.epsilon = 0;
+    pg_error err = {0};
+    int bad = pits_parallel_fill_barnes2016(t, f, &fo, NULL, &err) != PG_OK ||
+              pits_meps_from_fill(t, f, st, w) != 0;
+    if (!fill) free(f);
+    if (bad) return -1;
+    const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; i++)
+        if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
+    return 0;
+}
+
+/* Whether W is worth computing by way of the fill (by_fill) rather than by the flood:
+ * on several threads, when more than half of the cells are left for the flood after
+ * the drained ones are closed (a DEM of integer heights, whose flats and depressions
+ * are most of it; on a planet the ocean is sinks and most land drains, and the flood
+ * is the quicker). The tiled fill's labels must fit in 32 bits. */
+static int fill_pays(const pg_pits_topo *t, const pg_pits_opts *o, const uint8_t *st) {
+    if (!o || o->has_nodata || omp_get_max_threads() < 2 || t->ncells < 4096 ||
+        t->ncells >= (UINT64_C(1) << 31))
+        return 0;
+    const int64_t n = (int64_t)t->ncells;
+    int64_t open = 0;
+#pragma omp parallel for reduction(+ : open) schedule(static)
+    for (int64_t i = 0; i < n; i++)
+        open += st[i] == PITS_OPEN;
+    return 2 * open > n;
+}
+
+static void reopen(const pg_pits_topo *t, uint8_t *st) {
+    const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; i++)
+        if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
+}
+
+static int meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
+                        const pits_heap *q, float *w, int eps, float *fill) {
+    if (close_drained(t, h, st, q)) return -1;
+    if (eps && fill_pays(t, o, st)) {
+        reopen(t, st); /* as pits_begin left it */
+        if (by_fill(t, h, o, st, w, fill) == 0) return 0;
+        if (close_drained(t, h, st, q)) return -1;
+    }
+    if (flood_rest(t, h, st, w, eps, fill)) return -1;
     for (uint64_t i = 0; i < t->ncells; i++)
         if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
     return 0;
 }
 
-int pits_meps_compute(const pg_pits_topo *t, const float *h, uint8_t *st, const pits_heap *q,
-                      float *w, int eps) {
-    return meps_compute(t, h, st, q, w, eps, NULL);
+int pits_meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
+                      const pits_heap *q, float *w, int eps) {
+    return meps_compute(t, h, o, st, q, w, eps, NULL);
 }
 
 /* The epsilon-surface from the minimal fill f, without a flood, for the depression
@@ -184,6 +245,89 @@ static uint32_t bits_of(float v) {
     return u;
 }
 
+/* w's cells, read and written by several threads: a cell the search reaches from two
+ * cells of one level gets the same value from both (below), so the races are benign;
+ * relaxed atomics make them defined. */
+static inline float load_w(const float *w) {
+    float v;
+    __atomic_load(w, &v, __ATOMIC_RELAXED);
+    return v;
+}
+
+static inline void store_w(float *w, float v) {
+    __atomic_store(w, &v, __ATOMIC_RELAXED);
+}
+
+/* Expands cell c of a level into its unreached neighbours, which get up and join the
+ * thread's list for the next level. */
+static inline void expand(const pg_pits_topo *t, float *w, uint32_t c, pits_fifo *next) {
+    uint32_t nb[8];
+    float up = pits_up(load_w(&w[c]));
+    int k = pg_pits_neighbours(t, c, nb);
+    for (int j = 0; j < k; j++)
+        if (load_w(&w[nb[j]]) == INFINITY) {
+            store_w(&w[nb[j]], up);
+            pits_fifo_push(next, nb[j]);
+        }
+}
+
+/* The flats' cells by breadth-first search from their exits (w == f), a level at a
+ * time, each level's cells shared among the threads. The exits give their flats' cells
+ * next to them one ulp; the search goes on from those, which are not exits: such a
+ * cell has no lower neighbour, and an unreached neighbour (not an exit either) none
+ * lower than it, so the two are level and the search reads only w. A cell first
+ * reached at level L (its distance from its flat's exits) gets up applied L times to
+ * its flat's height, whichever cell of level L - 1 reaches it: so the values do not
+ * depend on the thread count, and pits_meps_check verifies them anyway. A level is
+ * each thread's list of the cells it reached; small levels run on one thread.
+ * Returns nonzero when out of memory. */
+static int flat_search(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w) {
+    const int64_t n = (int64_t)t->ncells;
+    const int nt = omp_get_max_threads();
+    pits_fifo *lv = calloc(2 * (size_t)nt, sizeof *lv); /* two levels of nt lists */
+    if (!lv) return -1;
+#pragma omp parallel num_threads(nt)
+    {
+        pits_fifo *my = &lv[omp_get_thread_num()];
+        uint32_t nb[8];
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < n; i++) {
+            if (st[i] != PITS_OPEN || load_w(&w[i]) != f[i]) continue;
+            float up = pits_up(f[i]);
+            int k = pg_pits_neighbours(t, (uint32_t)i, nb);
+            for (int j = 0; j < k; j++)
+                if (load_w(&w[nb[j]]) == INFINITY && f[nb[j]] == f[i]) {
+                    store_w(&w[nb[j]], up);
+                    pits_fifo_push(my, nb[j]);
+                }
+        }
+    }
+    int oom = 0;
+    for (int level = 0;; level ^= 1) {
+        pits_fifo *cur = lv + level * nt, *next = lv + (level ^ 1) * nt;
+        size_t m = 0;
+        for (int i = 0; i < nt; i++)
+            m += cur[i].tail, oom |= cur[i].oom;
+        if (oom || !m) break;
+#pragma omp parallel num_threads(nt) if (m >= 4096)
+        {
+            pits_fifo *my = &next[omp_get_thread_num()];
+            for (int i = 0; i < nt; i++) {
+                const int64_t ni = (int64_t)cur[i].tail;
+#pragma omp for schedule(static) nowait
+                for (int64_t k = 0; k < ni; k++)
+                    expand(t, w, cur[i].a[k], my);
+            }
+        }
+        for (int i = 0; i < nt; i++)
+            cur[i].head = cur[i].tail = 0;
+    }
+    for (int i = 0; i < 2 * nt; i++)
+        pits_fifo_free(&lv[i]);
+    free(lv);
+    return oom;
+}
+
 int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w) {
     const int64_t n = (int64_t)t->ncells;
     int64_t bad = 0;
@@ -201,36 +345,7 @@ int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st
         bad += f[i] == INFINITY;       /* would look unreached */
     }
     if (bad) return -1;
-    /* The exits (w == f) give their flats' cells next to them one ulp, in id order;
-     * then the search goes on from those, which are not exits: such a cell has no
-     * lower neighbour, and an unreached neighbour (not an exit either) none lower
-     * than it, so the two are level and the search reads only w. */
-    pits_fifo q = {0};
-    uint32_t nb[8];
-    for (int64_t i = 0; i < n && !q.oom; i++) {
-        if (st[i] != PITS_OPEN || w[i] != f[i]) continue;
-        float up = pits_up(f[i]);
-        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
-        for (int j = 0; j < k; j++)
-            if (w[nb[j]] == INFINITY && f[nb[j]] == f[i]) {
-                w[nb[j]] = up;
-                pits_fifo_push(&q, nb[j]);
-            }
-    }
-    while (!pits_fifo_empty(&q) && !q.oom) {
-        uint32_t c = pits_fifo_pop(&q);
-        float up = pits_up(w[c]);
-        int k = pg_pits_neighbours(t, c, nb);
-        for (int j = 0; j < k; j++)
-            if (w[nb[j]] == INFINITY) {
-                w[nb[j]] = up;
-                pits_fifo_push(&q, nb[j]);
-            }
-    }
-    int oom = q.oom;
-    pits_fifo_free(&q);
-    if (oom) return -1;
-    return pits_meps_check(t, f, st, w) ? -1 : 0;
+    return flat_search(t, f, st, w) ? -1 : pits_meps_check(t, f, st, w) ? -1 : 0;
 }
 
 int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w) {
@@ -289,7 +404,7 @@ static pg_status eps_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     if (s) return s;
     const float *in = floor ? floor : h; /* no-data cells are not read: sinks */
     float *w = floor ? h : pg_huge_malloc(t->ncells * sizeof *w);
-    int oom = !w || meps_compute(t, in, st, &q, w, 1, fill);
+    int oom = !w || meps_compute(t, in, o, st, &q, w, 1, fill);
     if (!oom && fill) *exact = !fill_check(t, in, st, fill);
     for (uint64_t i = 0; !oom && !floor && i < t->ncells; i++)
         if (st[i] == PITS_CLOSED) h[i] = w[i];
