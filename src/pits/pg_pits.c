@@ -61,9 +61,7 @@ const char *pg_pits_citation(const pg_pits_opts *o) {
     return pg_pits_method_citation(o->method);
 }
 
-/* Whether the plain fill runs in tiles (Barnes 2016); the tiled fill's labels
- * (< ncells + one tile) must fit in 32 bits. */
-static int tiled_fill(const pg_pits_topo *t, const pg_pits_opts *o) {
+int pits_tiled_fill(const pg_pits_topo *t, const pg_pits_opts *o) {
     return t->ncells < (UINT64_C(1) << 31) &&
            (o->tile_rows > 0 || (omp_get_max_threads() > 1 && t->ncells >= 4096));
 }
@@ -73,7 +71,7 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     switch (o->method) {
     case PG_PITS_FILL:
         if (o->epsilon) return pits_minimal_eps_planchon2002(t, h, o, res, err);
-        if (tiled_fill(t, o)) return pits_parallel_fill_barnes2016(t, h, o, res, err);
+        if (pits_tiled_fill(t, o)) return pits_parallel_fill_barnes2016(t, h, o, res, err);
         return pits_priority_flood_barnes2014(t, h, o, res, err);
     case PG_PITS_BREACH:
         if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);

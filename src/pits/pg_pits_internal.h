@@ -365,6 +365,9 @@ pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_
  * floats; exact: no check needed, the file says why). */
 pg_status pits_breach_soille2004_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                       pg_pits_result *res, float *fill, pg_error *err);
+/* Whether the plain fill runs in tiles (Barnes 2016; pg_pits.c): several threads or
+ * o->tile_rows set; the tiled fill's labels (< ncells + one tile) must fit in 32 bits. */
+int pits_tiled_fill(const pg_pits_topo *t, const pg_pits_opts *o);
 pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

@@ -163,8 +163,7 @@ static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, 
  * without no-data (pits_begin would have made those cells -inf, which the fill's own
  * start cannot tell from heights); F's sinks are h's: a sink keeps its height and
  * every other cell only rises. Into fill (the minimal fill, wanted by the counts) when
- * not NULL. Returns 0 when w holds W, with every non-sink cell closed as after the
- * flood; nonzero when it fails (the caller floods). */
+ * not NULL. Returns 0 when w holds W; nonzero when it fails (the caller floods). */
 static int by_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
                    float *w, float *fill) {
     float *f = fill ? fill : pg_huge_malloc(t->ncells * sizeof *f);
@@ -177,23 +176,16 @@ static int by_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
     int bad = pits_parallel_fill_barnes2016(t, f, &fo, NULL, &err) != PG_OK ||
               pits_meps_from_fill(t, f, st, w) != 0;
     if (!fill) free(f);
-    if (bad) return -1;
-    const int64_t n = (int64_t)t->ncells;
-#pragma omp parallel for schedule(static)
-    for (int64_t i = 0; i < n; i++)
-        if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
-    return 0;
+    return bad ? -1 : 0;
 }
 
 /* Whether W is worth computing by way of the fill (by_fill) rather than by the flood:
- * on several threads, when more than half of the cells are left for the flood after
- * the drained ones are closed (a DEM of integer heights, whose flats and depressions
- * are most of it; on a planet the ocean is sinks and most land drains, and the flood
- * is the quicker). The tiled fill's labels must fit in 32 bits. */
+ * on several threads where the plain fill would run in tiles, when more than half of
+ * the cells are left for the flood after the drained ones are closed (a DEM of integer
+ * heights, whose flats and depressions are most of it; on a planet the ocean is sinks
+ * and most land drains, and the flood is the quicker). */
 static int fill_pays(const pg_pits_topo *t, const pg_pits_opts *o, const uint8_t *st) {
-    if (!o || o->has_nodata || omp_get_max_threads() < 2 || t->ncells < 4096 ||
-        t->ncells >= (UINT64_C(1) << 31))
-        return 0;
+    if (!o || o->has_nodata || omp_get_max_threads() < 2 || !pits_tiled_fill(t, o)) return 0;
     const int64_t n = (int64_t)t->ncells;
     int64_t open = 0;
 #pragma omp parallel for reduction(+ : open) schedule(static)
@@ -212,13 +204,16 @@ static void reopen(const pg_pits_topo *t, uint8_t *st) {
 static int meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
                         const pits_heap *q, float *w, int eps, float *fill) {
     if (close_drained(t, h, st, q)) return -1;
+    int done = 0; /* w holds W */
     if (eps && fill_pays(t, o, st)) {
         reopen(t, st); /* as pits_begin left it */
-        if (by_fill(t, h, o, st, w, fill) == 0) return 0;
-        if (close_drained(t, h, st, q)) return -1;
+        done = by_fill(t, h, o, st, w, fill) == 0;
+        if (!done && close_drained(t, h, st, q)) return -1;
     }
-    if (flood_rest(t, h, st, w, eps, fill)) return -1;
-    for (uint64_t i = 0; i < t->ncells; i++)
+    if (!done && flood_rest(t, h, st, w, eps, fill)) return -1;
+    const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; i++)
         if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
     return 0;
 }
