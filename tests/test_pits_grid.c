@@ -367,14 +367,14 @@ static void test_stats(void **state) {
 }
 
 /* The statistics against an independent reference: depressions are the 8-connected
- * regions the brute-force minimal fill raises, their volume sum (minimal epsilon-surface
- * - h). On random grids (pitted, flats, sinks of every kind) and on the result of every
- * method (where the count mostly takes its linear no-depression path, which must give
- * exactly 0 everywhere and the same sink count). */
+ * regions the brute-force minimal fill raises, their volume sum (minimal fill - h). On random grids
+ * (pitted, flats, sinks of every kind) and on the result of every method (where the count mostly
+ * takes its linear no-depression path, which must give exactly 0 everywhere and the same sink
+ * count). */
 static void check_stats_reference(const chk_graph *g, const pg_pits_topo *t, const float *dem,
                                   const pg_pits_opts *o, int w, int h) {
     uint8_t *sk = chk_sinks(dem, g->n, o->has_sea_level, o->sea_level, NULL, o->open_edges, w, h);
-    float *ref = chk_minimal_fill(g, dem, sk), *eref = chk_minimal_fill_eps(g, dem, sk, 1);
+    float *ref = chk_minimal_fill(g, dem, sk);
     uint8_t *seen = calloc(g->n, 1);
     uint32_t *q = malloc(sizeof(uint32_t) * g->n);
     uint64_t regions = 0, cells = 0, nsinks = 0;
@@ -389,7 +389,7 @@ static void check_stats_reference(const chk_graph *g, const pg_pits_topo *t, con
         while (head < tail) {
             uint32_t c = q[head++];
             cells++;
-            volume += (double)eref[c] - (double)dem[c];
+            volume += (double)ref[c] - (double)dem[c];
             for (int j = 0; j < g->cnt[c]; j++) {
                 uint32_t n = g->nb[8 * (size_t)c + j];
                 if (!seen[n] && ref[n] > dem[n]) seen[n] = 1, q[tail++] = n;
@@ -406,7 +406,6 @@ static void check_stats_reference(const chk_graph *g, const pg_pits_topo *t, con
     assert_int_equal(st.sinks, nsinks);
     free(q);
     free(seen);
-    free(eref);
     free(ref);
     free(sk);
 }
@@ -526,13 +525,14 @@ static void sea_grid(pg_pits_topo *t, pg_pits_opts *o, int w, int h, double sea_
     o->sea_level = sea_level;
 }
 
-/* The counts take the epsilon-surface from the minimal fill's flats when the guess
- * checks out, and from a flood when it does not: here a flat B one ulp above flat A
- * drains through A, so B's surface must rise past A's ulps, not start at B's own
- * height, and the guess fails. The figures must still be the epsilon-fill's: a pit in
- * B of depth 1 m, raised past all of A's ulps (the guess would put it only B's own few
- * ulps above B). */
-static void test_stats_eps_fallback(void **state) {
+/* A depression's volume and depth are the water the minimal fill holds, not the
+ * epsilon-fill's ulps on top: here a flat B one ulp above flat A drains through A, so
+ * B's epsilon-surface rises past A's ulps, yet a pit in B 1 m deep holds exactly 1 m
+ * of water. The count after a tiled plain fill takes
+ * the epsilon-surface from the fill's flats, whose guess fails on this grid (B must
+ * rise past A's ulps, not start at B's own height); it must then count in full and
+ * still find none. */
+static void test_stats_fill_volume(void **state) {
     (void)state;
     enum { W = 24, H = 3 };
     const float s = 1000.0f, s1 = nextafterf(1000.0f, INFINITY);
@@ -559,27 +559,33 @@ static void test_stats_eps_fallback(void **state) {
     assert_int_equal(pits_begin(&t, fill, &o, &sk, NULL, &ns, NULL), PG_OK);
     assert_int_not_equal(pits_meps_from_fill(&t, fill, sk, w), 0);
     free(sk);
-    /* the epsilon-fill it must agree with */
+    /* the epsilon-fill lifts the pit past all of A's ulps; the water is 1 m deep */
     memcpy(eps, dem, sizeof eps);
     o.epsilon = true;
     assert_int_equal(pg_pits_remove(&t, eps, &o, NULL, NULL), PG_OK);
-    assert_true(eps[W + 11] > s1); /* B rises past A's ulps */
+    assert_true(eps[W + 15] > s1 && fill[W + 15] == s1);
+    const double water = (double)s1 - (double)dem[W + 15];
     pg_pits_stats st;
-    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &st, NULL), PG_OK);
+    pg_pits_area area = {NULL, NULL, NULL, 4.0};
+    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, &area, &st, NULL), PG_OK);
     assert_int_equal(st.depressions, 1);
     assert_int_equal(st.depression_cells, 1);
-    assert_true(st.depression_volume_m3 == (double)eps[W + 15] - (double)dem[W + 15]);
-    assert_true(st.max_depth_m == (double)eps[W + 15] - (double)dem[W + 15]);
-    assert_true(eps[W + 15] > eps[W + 10]); /* the pit's surface is above all of A's */
-    /* the counted fill refuses the same guess, and the counts still agree */
-    pg_pits_stats before, after;
-    o.epsilon = false;
-    memcpy(fill, dem, sizeof fill);
-    assert_int_equal(pg_pits_remove_counted(&t, fill, &o, NULL, NULL, &before, &after, NULL),
-                     PG_OK);
-    assert_int_equal(before.depressions, 1);
-    assert_true(before.depression_volume_m3 == st.depression_volume_m3);
-    assert_int_equal(after.depressions, 0);
+    assert_true(st.depression_volume_m3 == 4.0 * water);
+    assert_true(st.max_depth_m == water);
+    /* the counted fill, serial and tiled (whose certificate refuses here), agree */
+    for (int tiled = 0; tiled < 2; tiled++) {
+        pg_pits_stats before, after;
+        o.epsilon = false;
+        o.tile_rows = tiled ? 2 : 0;
+        memcpy(fill, dem, sizeof fill);
+        assert_int_equal(pg_pits_remove_counted(&t, fill, &o, &area, NULL, &before, &after, NULL),
+                         PG_OK);
+        assert_int_equal(before.depressions, 1);
+        assert_true(before.depression_volume_m3 == st.depression_volume_m3);
+        assert_true(before.max_depth_m == st.max_depth_m);
+        assert_int_equal(after.depressions, 0);
+        assert_int_equal(after.sinks, before.sinks);
+    }
 }
 
 /* The epsilon-surface that the counts take from a plain fill (pits_meps_from_fill):
@@ -594,7 +600,7 @@ static void check_fill_eps(const pg_pits_topo *t, const float *dem, pg_pits_opts
     o.method = PG_PITS_FILL;
     o.epsilon = false;
     memcpy(a, dem, sizeof(float) * n);
-    assert_int_equal(pits_priority_flood_barnes2014(t, a, &o, NULL, NULL), PG_OK);
+    assert_int_equal(pits_priority_flood_barnes2014(t, a, &o, NULL, NULL, NULL), PG_OK);
     o.epsilon = true;
     memcpy(e, dem, sizeof(float) * n);
     assert_int_equal(pg_pits_remove(t, e, &o, NULL, NULL), PG_OK);
@@ -751,6 +757,12 @@ static void test_drain_certificate(void **state) {
         o.method = PG_PITS_FILL;
         memcpy(eps, dem, sizeof(float) * n);
         assert_int_equal(pg_pits_remove(&t, eps, &o, NULL, NULL), PG_OK);
+        /* the order in which the serial plain fill closes the cells */
+        uint32_t *order = malloc(sizeof(uint32_t) * n);
+        float *fl = malloc(sizeof(float) * n);
+        memcpy(fl, dem, sizeof(float) * n);
+        o.epsilon = false;
+        assert_int_equal(pits_priority_flood_barnes2014(&t, fl, &o, NULL, NULL, order), PG_OK);
         for (size_t v = 0; v <= sizeof VARIANTS / sizeof *VARIANTS; v++) {
             memcpy(out, dem, sizeof(float) * n); /* v == count: the raw grid */
             if (v < sizeof VARIANTS / sizeof *VARIANTS) {
@@ -766,9 +778,10 @@ static void test_drain_certificate(void **state) {
             uint8_t *sk = NULL;
             uint64_t ns = 0;
             assert_int_equal(pits_begin(&t, c, &o, &sk, NULL, &ns, NULL), PG_OK);
-            int by_self = pits_drains_by(&t, c, sk, c);
-            int by_eps = pits_drains_by(&t, c, sk, eps);
-            if (by_self || by_eps) assert_int_equal(st.depressions, 0);
+            int by_self = pits_drains_by(&t, c, sk, c, NULL);
+            int by_eps = pits_drains_by(&t, c, sk, eps, NULL);
+            int by_order = pits_drains_by(&t, c, sk, NULL, order);
+            if (by_self || by_eps || by_order) assert_int_equal(st.depressions, 0);
             if (st.depressions) refused++;
             /* (with the lowest cell as the only sink, carving may move it) */
             if (v < sizeof VARIANTS / sizeof *VARIANTS && VARIANTS[v].eps &&
@@ -777,6 +790,7 @@ static void test_drain_certificate(void **state) {
             if (v < sizeof VARIANTS / sizeof *VARIANTS && !VARIANTS[v].eps &&
                 VARIANTS[v].m == PG_PITS_FILL) {
                 plain++, plain_ok += by_eps;
+                assert_true(by_order); /* the serial fill's own certificate */
                 /* the epsilon-surface from the fill's flats: exact, no flood */
                 float *wf = malloc(sizeof(float) * n);
                 assert_int_equal(pits_meps_from_fill(&t, c, sk, wf), 0);
@@ -787,6 +801,8 @@ static void test_drain_certificate(void **state) {
             free(sk);
             free(c);
         }
+        free(order);
+        free(fl);
         free(out);
         free(eps);
         free(dem);
@@ -805,7 +821,12 @@ static void test_drain_certificate(void **state) {
     uint8_t *sk = NULL;
     uint64_t ns = 0;
     assert_int_equal(pits_begin(&t, flat, &o, &sk, NULL, &ns, NULL), PG_OK);
-    assert_false(pits_drains_by(&t, flat, sk, flat));
+    assert_false(pits_drains_by(&t, flat, sk, flat, NULL));
+    uint32_t up[36], down[36]; /* whatever the potential */
+    for (uint32_t i = 0; i < 36; i++)
+        up[i] = i, down[i] = 35 - i;
+    assert_false(pits_drains_by(&t, flat, sk, NULL, up));
+    assert_false(pits_drains_by(&t, flat, sk, NULL, down));
     float wf[36]; /* nor is it taken for a fill whose flats all drain */
     assert_int_not_equal(pits_meps_from_fill(&t, flat, sk, wf), 0);
     free(sk);
@@ -857,7 +878,7 @@ int main(void) {
         cmocka_unit_test(test_stats_reference),     cmocka_unit_test(test_bad_input_and_nodata),
         cmocka_unit_test(test_remove_counted),      cmocka_unit_test(test_fill_eps_guess),
         cmocka_unit_test(test_eps_fill_gives_fill), cmocka_unit_test(test_drain_certificate),
-        cmocka_unit_test(test_stats_eps_fallback),  cmocka_unit_test(test_eps_by_fill),
+        cmocka_unit_test(test_stats_fill_volume),   cmocka_unit_test(test_eps_by_fill),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -189,8 +189,8 @@ typedef struct pg_pits_stats {
     uint64_t depressions;      /* 8-connected regions that a fill raises */
     uint64_t depression_cells; /* cells in them */
     double depression_area_m2;
-    double depression_volume_m3; /* sum over those cells of (eps-fill - h) * area */
-    double max_depth_m;          /* largest eps-fill - h */
+    double depression_volume_m3; /* sum over those cells of (fill - h) * area: the water */
+    double max_depth_m;          /* largest fill - h (fill: the minimal fill) */
     uint64_t sinks;
 } pg_pits_stats;
 
@@ -210,18 +210,18 @@ double pg_pits_cube_area_fn(void *ctx, uint32_t id);
 
 /* Count the depressions of h without changing it. The sinks come from o (sea level,
  * lakes, edges, nodata; method and epsilon are ignored). A depression is a connected
- * region raised by the minimal fill; its area and volume are measured against the
- * epsilon-fill (the minimal fill plus the ulps that give its flats a slope). Drained
- * flats are therefore not depressions. */
+ * region raised by the minimal fill; its volume and depth are the water that fill
+ * holds there. Drained flats are therefore not depressions, and no epsilon ulps count
+ * as water. */
 pg_status pg_pits_stats_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                                 const pg_pits_area *area, pg_pits_stats *st, pg_error *err);
 
 /* pg_pits_remove, and the depressions of h before (the input) and after (the result):
  * the same figures as pg_pits_stats_compute on each, at a fraction of the cost,
- * because the removal's own flood gives one of the two fills the count needs (a plain
- * fill is the minimal fill, an epsilon fill and the descent tree compute the
- * epsilon-surface) and the result is checked by a linear certificate instead of a
- * search (docs/pits.md, "Metrics"). area as in pg_pits_stats_compute; res may be NULL. */
+ * because the removal's own flood gives the minimal fill the count needs where it can
+ * (a plain fill is it; the epsilon fill and Soille's breach compute it on the way) and
+ * the result is checked by a linear certificate instead of a search (docs/pits.md,
+ * "Metrics"). area as in pg_pits_stats_compute; res may be NULL. */
 #define PG_PITS_HAVE_REMOVE_COUNTED 1 /* (for code built against several versions) */
 pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  const pg_pits_area *area, pg_pits_result *res,

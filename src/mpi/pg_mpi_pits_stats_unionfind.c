@@ -2,12 +2,12 @@
  * joined by union-find on rank 0.
  *
  * Source: the single-process count, src/pits/pg_pits_stats.c (a depression is an
- * 8-connected region of cells that the minimal fill raises; volume and area against
- * the epsilon-fill), with the regions that cross rank boundaries joined by union-find
+ * 8-connected region of cells that the minimal fill raises; its volume the water that
+ * fill holds), with the regions that cross rank boundaries joined by union-find
  * (R. E. Tarjan (1975), "Efficiency of a good but not linear set union algorithm",
  * JACM 22(2):215-225; path halving).
- * Membership (the minimal fill raises the cell) and the epsilon-fill come from the
- * distributed fills (pg_mpi_pits_barnes2016_fill.c, pg_mpi_pits_planchon2002_eps.c).
+ * Membership (the minimal fill raises the cell) and the volumes come from the
+ * distributed fill (pg_mpi_pits_barnes2016_fill.c).
  * Each rank labels the depressions inside its tiles (a flood over its member cells),
  * sums each label's cells, area, volume and depth, and records a pair of labels
  * wherever two member cells in different ranks touch (the ring's labels come from their
@@ -79,8 +79,8 @@ static int cmp_dlabel(const void *x, const void *y) {
 
 /* Label the member cells of this rank's tiles (region index per owned cell, UINT32_MAX
  * for none); one dlabel per local region. h: the caller's planet array (owned cells
- * only are read), efill: local. */
-static int label_regions(const pg_mpi_pits_grid *d, const float *h, const float *efill,
+ * only are read), fill: local. */
+static int label_regions(const pg_mpi_pits_grid *d, const float *h, const float *fill,
                          const uint8_t *member, uint32_t *region, const pg_pits_area *area,
                          dlabel **out, size_t *nout) {
     const pg_mpi_tiling *g = d->g;
@@ -98,7 +98,7 @@ static int label_regions(const pg_mpi_pits_grid *d, const float *h, const float 
         while (head < tail) {
             uint32_t c = queue[head++];
             uint64_t cube = pg_mpi_cube_id(g, c);
-            double a = stat_area(area, cube), dep = (double)efill[c] - (double)h[cube];
+            double a = stat_area(area, cube), dep = (double)fill[c] - (double)h[cube];
             L.cells++, L.area += a, L.volume += dep * a;
             if (dep > L.depth) L.depth = dep;
             int k = pg_pits_neighbours(&g->t, c, nb);
@@ -148,7 +148,7 @@ static int cross_pairs(const pg_mpi_tiling *g, const uint8_t *member, const uint
     return oom;
 }
 
-/* The local arrays: the plain fill, lifted in place to the epsilon-fill; membership. */
+/* The local arrays: the plain fill; membership. */
 typedef struct stats_bufs {
     float *fill;
     uint8_t *member;
@@ -220,13 +220,12 @@ pg_status pg_mpi_pits_stats(pg_mpi *m, int tiles, uint32_t n, const float *h, co
         pg_mpi_tiling_load(&g, h, b.fill);
         st = pg_mpi_pits_fill_local(&d, &f, &info, err);
     }
-    if (!st) { /* then the epsilon-fill: the same rounds as the fill's, from the plain fill */
+    if (!st) {
         PG_MPI_FOR_OWNED(&g, id) {
             float hc = h[pg_mpi_cube_id(&g, id)];
             b.member[id] = b.fill[id] > hc;
             sinks += hc <= o->sea_level;
         }
-        st = pg_mpi_pits_eps_rounds(&d, &info, err);
     }
     if (!st) st = pg_mpi_ring_exchange(&g, b.member, 1, err);
     dlabel *lab = NULL;

@@ -72,12 +72,12 @@ static pg_status dispatch(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     case PG_PITS_FILL:
         if (o->epsilon) return pits_minimal_eps_planchon2002(t, h, o, res, err);
         if (pits_tiled_fill(t, o)) return pits_parallel_fill_barnes2016(t, h, o, res, err);
-        return pits_priority_flood_barnes2014(t, h, o, res, err);
+        return pits_priority_flood_barnes2014(t, h, o, res, err, NULL);
     case PG_PITS_BREACH:
-        if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);
+        if (o->descent) return pits_breach_descent(t, h, o, res, err);
         return pits_breach_soille2004(t, h, o, res, err);
     case PG_PITS_HYBRID:
-        if (o->descent) return pits_breach_descent(t, h, o, res, err, NULL);
+        if (o->descent) return pits_breach_descent(t, h, o, res, err);
         return pits_hybrid_lindsay2016(t, h, o, res, err);
     }
     return pg_error_set(err, PG_ERR_BADINPUT, "pits: unknown method %d", (int)o->method);
@@ -160,39 +160,39 @@ static pg_status fill_of(const pg_pits_topo *t, const float *h, const pg_pits_op
     return dispatch(t, out, &f, &r, err);
 }
 
-/* For a plain fill f (the result): the epsilon-surface of its input into w, and f's
- * count. From f's flats when that checks out (pits_meps_from_fill): every cell then
- * got its value from an exit of its flat, so each has a path along its flat to a cell
- * with a lower neighbour or a sink neighbour, and f has no depression (*counted = 1).
- * Otherwise w comes from its own flood and the count is left to count_after. */
-static pg_status eps_of_fill(const pg_pits_topo *t, const float *in, float *f,
-                             const pg_pits_opts *o, float *w, pg_pits_stats *after, int *counted,
-                             pg_error *err) {
-    int exact = 0;
-    uint64_t nsinks = 0;
-    pg_status s = pits_eps_from_fill(t, f, o, w, &exact, &nsinks, err);
-    if (s) return s;
-    *counted = exact;
-    if (exact) {
-        memset(after, 0, sizeof *after);
-        after->sinks = nsinks;
-    }
-    return exact ? PG_OK : fill_of(t, in, o, 1, w, err);
-}
-
-/* The depression counts of the result: 0 when the certificate of pits_drains_by holds
- * (p: the result itself, or for a plain fill the epsilon-surface of its input), else
- * the full count. */
+/* The depression counts of the result h: 0 when the certificate of pits_drains_by
+ * holds (potential: order when given, else p, else h itself), else the full count. */
 static pg_status count_after(const pg_pits_topo *t, float *h, const pg_pits_opts *o, const float *p,
-                             const pg_pits_area *area, pg_pits_stats *after, pg_error *err) {
+                             const uint32_t *order, const pg_pits_area *area, pg_pits_stats *after,
+                             pg_error *err) {
     uint8_t *st = NULL;
     uint64_t nsinks = 0;
     pg_status s = pits_begin(t, h, o, &st, NULL, &nsinks, err); /* no-data: -inf for now */
     if (s) return s;
-    int ok = pits_drains_by(t, h, st, p ? p : h);
+    int ok = pits_drains_by(t, h, st, p ? p : h, order);
     pits_end(t, h, o, st);
     free(st);
     if (!ok) return pg_pits_stats_compute(t, h, o, area, after, err);
+    memset(after, 0, sizeof *after);
+    after->sinks = nsinks;
+    return PG_OK;
+}
+
+/* The counts after a plain fill f made by the tiled fill, which keeps no closing order:
+ * the epsilon-surface of its input from f's flats (pits_meps_from_fill). When that
+ * checks out, every cell got its value from an exit of its flat, so each has a path
+ * along its flat to a cell with a lower neighbour or a sink neighbour, and f has no
+ * depression; otherwise the full count. */
+static pg_status count_after_tiled_fill(const pg_pits_topo *t, float *f, const pg_pits_opts *o,
+                                        const pg_pits_area *area, pg_pits_stats *after,
+                                        pg_error *err) {
+    float *w = pg_huge_malloc(t->ncells * sizeof *w);
+    if (!w) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
+    int exact = 0;
+    uint64_t nsinks = 0;
+    pg_status s = pits_eps_from_fill(t, f, o, w, &exact, &nsinks, err);
+    free(w);
+    if (s || !exact) return s ? s : count_after(t, f, o, NULL, NULL, area, after, err);
     memset(after, 0, sizeof *after);
     after->sinks = nsinks;
     return PG_OK;
@@ -208,49 +208,47 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
     const int descent = o->method != PG_PITS_FILL && o->descent;
     const int soille = o->method == PG_PITS_BREACH && !o->descent;
-    float *in = pg_huge_malloc(n * sizeof *in), *w = NULL, *fill = NULL;
+    const int serial_fill = plain_fill && !pits_tiled_fill(t, o);
+    float *in = pg_huge_malloc(n * sizeof *in), *fill = NULL;
+    uint32_t *order = NULL;
     if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     memcpy(in, h, n * sizeof *in);
-    const int need_w = plain_fill || descent || soille, need_fill = eps_fill || descent || soille;
-    if (need_w) w = pg_huge_malloc(n * sizeof *w);
+    const int need_fill = eps_fill || descent || soille;
     if (need_fill) fill = pg_huge_malloc(n * sizeof *fill);
-    if ((need_w && !w) || (need_fill && !fill))
+    if (serial_fill) order = pg_huge_malloc(n * sizeof *order);
+    if ((need_fill && !fill) || (serial_fill && !order))
         s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     pg_pits_result local = {0};
-    /* the removal, keeping what its floods computed about the input: a plain fill is
-     * the input's minimal fill, an epsilon fill its epsilon-surface, the descent tree
-     * is built on that surface. The epsilon fill also gives the minimal fill (checked;
-     * docs/pits.md, "Metrics"). */
-    int counted = 0;   /* the count after is done */
-    int have_fill = 0; /* the epsilon fill gave the minimal fill as well */
+    /* the removal, keeping what its floods computed about the input (docs/pits.md,
+     * "Metrics"): a plain fill is the input's minimal fill, and the serial one keeps
+     * the order in which it closed the cells; the epsilon fill and Soille's flood give
+     * the minimal fill as well (checked) */
+    int have_fill = 0; /* the removal gave the minimal fill */
     if (!s && descent)
-        s = pits_breach_descent(t, h, o, &local, err, w);
+        s = pits_breach_descent(t, h, o, &local, err);
     else if (!s && eps_fill)
         s = pits_minimal_eps_planchon2002_fill(t, h, o, &local, in, fill, &have_fill, err);
     else if (!s && soille)
         s = pits_breach_soille2004_fill(t, h, o, &local, fill, err), have_fill = 1;
+    else if (!s && serial_fill)
+        s = pits_priority_flood_barnes2014(t, h, o, &local, err, order);
     else if (!s)
         s = dispatch(t, h, o, &local, err);
     if (!s) summarise(t, in, h, &local);
-    /* otherwise the other surface comes from its own flood; the other methods count
-     * as pg_pits_stats_compute does */
-    if (!s && plain_fill) s = eps_of_fill(t, in, h, o, w, after, &counted, err);
-    if (!s && (eps_fill || descent) && !have_fill) s = fill_of(t, in, o, 0, fill, err);
-    if (!s && soille) { /* the epsilon-surface from its fill's flats, else a flood */
-        int exact = 0;
-        uint64_t nsinks = 0;
-        s = pits_eps_from_fill(t, fill, o, w, &exact, &nsinks, err);
-        if (!s && !exact) s = fill_of(t, in, o, 1, w, err);
-    }
-    if (!s && (plain_fill || eps_fill || descent || soille))
-        s = pits_stats_from_fills(t, in, plain_fill ? h : fill, eps_fill ? h : w, area, local.sinks,
-                                  before, err);
+    /* otherwise the minimal fill comes from its own flood; the other methods count as
+     * pg_pits_stats_compute does */
+    if (!s && need_fill && !have_fill) s = fill_of(t, in, o, 0, fill, err);
+    if (!s && (plain_fill || need_fill))
+        s = pits_stats_from_fill(t, in, plain_fill ? h : fill, area, local.sinks, before, err);
     else if (!s) /* a removal's input: search for "no depression" only after */
         s = pits_stats_compute_pitted(t, in, o, area, before, err);
     free(in);
     free(fill);
-    if (!s && !counted) s = count_after(t, h, o, plain_fill ? w : NULL, area, after, err);
-    free(w);
+    if (!s && plain_fill && !serial_fill)
+        s = count_after_tiled_fill(t, h, o, area, after, err);
+    else if (!s)
+        s = count_after(t, h, o, NULL, order, area, after, err);
+    free(order);
     if (!s && res) *res = local;
     return s;
 }

@@ -24,13 +24,16 @@
  * lowest spill height through which its region connects to a sink (Barnes et al.,
  * Theorem 1), which the exact-fill test checks against a slow iterative reference.
  * The result is unique, so the order in which equal heights pop does not matter:
- * the front is a monotone radix heap on the heights alone (pg_pits_internal.h). */
+ * the front is a monotone radix heap on the heights alone (pg_pits_internal.h).
+ * The order in which cells are closed is kept on request: each cell is closed from a
+ * neighbour closed before it and not higher, which is the certificate the counts
+ * check after the fill (pits_drains_by) where the flats would need a search. */
 #include "pg_pits_internal.h"
 
 #include <stdlib.h>
 
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                         pg_pits_result *res, pg_error *err) {
+                                         pg_pits_result *res, pg_error *err, uint32_t *order) {
     pits_heap q = {0};
     pits_fifo pit = {0};
     uint8_t *st = NULL;
@@ -43,7 +46,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
     for (size_t i = 0; i < q.n; i++)
         pits_rheap_push(&r, (uint32_t)(q.a[i] >> 32), pits_key_id(q.a[i]));
     pits_heap_free(&q); /* the sinks now live in r */
-    uint32_t nb[8];
+    uint32_t nb[8], closed = 0;
     while ((r.size || !pits_fifo_empty(&pit)) && !r.oom && !pit.oom) {
         uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_rheap_pop(&r));
         if (r.oom) break;
@@ -53,6 +56,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
             uint32_t n = nb[j];
             if (st[n] != PITS_OPEN) continue;
             st[n] = PITS_CLOSED;
+            if (order) order[n] = closed++;
             if (h[n] <= hc) {
                 h[n] = hc;
                 pits_fifo_push(&pit, n);

@@ -170,7 +170,7 @@ static int fill_rest(descent *d, pits_heap *q, float *w) {
 }
 
 pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                              pg_pits_result *res, pg_error *err, float *w_out) {
+                              pg_pits_result *res, pg_error *err) {
     pits_heap q = {0};
     uint64_t nsinks = 0;
     uint8_t *st = NULL;
@@ -197,8 +197,6 @@ pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opt
         d.fill = fill;
     }
     if (!oom) oom = pits_meps_compute(t, h, fill ? NULL : o, st, &q, d.v, 1);
-    if (!oom && w_out) /* W of the input, for the depression counts (pg_pits.c) */
-        memcpy(w_out, d.v, t->ncells * sizeof *w_out);
     if (!oom) build_tree(&d);
     if (!oom) sweep(&d);
     if (!oom && hybrid) oom = fill_rest(&d, &q, d.v);

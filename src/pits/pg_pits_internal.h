@@ -322,13 +322,13 @@ static inline void pits_token_merge(float *v, uint32_t *len, float pass, uint32_
 /* ---- depression counts (pg_pits_stats.c) ---- */
 
 /* Counts the 8-connected regions of the cells with dep[] == 1 into st (cells, area,
- * volume against efill, deepest), marking them 2. Returns nonzero when out of memory. */
-int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, const float *efill,
+ * volume fill - h, deepest), marking them 2. Returns nonzero when out of memory. */
+int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, const float *fill,
                        const pg_pits_area *area, pg_pits_stats *st);
-/* The figures of pg_pits_stats_compute from h's minimal fill and epsilon-fill. */
-pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const float *fill,
-                                const float *efill, const pg_pits_area *area, uint64_t nsinks,
-                                pg_pits_stats *st, pg_error *err);
+/* The figures of pg_pits_stats_compute from h's minimal fill. */
+pg_status pits_stats_from_fill(const pg_pits_topo *t, const float *h, const float *fill,
+                               const pg_pits_area *area, uint64_t nsinks, pg_pits_stats *st,
+                               pg_error *err);
 /* The epsilon-surface of a minimal fill f's input into w, from f's flats
  * (pits_meps_from_fill), and f's sink count: *exact = 1 when the surface checks out,
  * and w is then the epsilon-fill's bit for bit; 0 leaves w undefined for the caller to
@@ -341,12 +341,15 @@ pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts
 pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                                     const pg_pits_area *area, pg_pits_stats *st, pg_error *err);
 /* Whether h (states st from pits_begin) certainly has no depression: every OPEN cell
- * has a neighbour that is not OPEN, or whose p is lower and whose h is not higher. */
-int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p);
+ * has a neighbour that is not OPEN, or one lower in the potential (order when not NULL,
+ * else p) whose h is not higher. */
+int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p,
+                   const uint32_t *order);
 
-/* The algorithms; h is modified in place. */
+/* The algorithms; h is modified in place. order (ncells, or NULL): for each non-sink
+ * cell, the place in which the flood closed it, a potential for pits_drains_by. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                         pg_pits_result *res, pg_error *err);
+                                         pg_pits_result *res, pg_error *err, uint32_t *order);
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                         pg_pits_result *res, pg_error *err);
 /* The same epsilon-fill, and with it the minimal (plain) fill of its input into fill
@@ -356,9 +359,8 @@ pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const p
 pg_status pits_minimal_eps_planchon2002_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                              pg_pits_result *res, const float *in, float *fill,
                                              int *exact, pg_error *err);
-/* w_out: NULL, or ncells floats that get the minimal epsilon-surface of the input */
 pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                              pg_pits_result *res, pg_error *err, float *w_out);
+                              pg_pits_result *res, pg_error *err);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
 /* The same breach, and with it the minimal fill of its input into fill (ncells

@@ -2,13 +2,13 @@
  * their area and their volume.
  *
  * A depression is an 8-connected region of cells that the minimal fill (plain
- * Priority-Flood, Barnes et al. 2014) raises. Its volume and area are measured
- * against the epsilon-fill (docs/pits.md, "Metrics"): volume = sum of
- * (epsfill - h) * area over the depression's cells. Using the minimal fill to decide
- * membership keeps drained flats out (the epsilon-fill raises those by ulps to give
- * them a slope, but water already leaves them); this makes the count 0 after every
- * method here, plain or epsilon. Regions are found with a FIFO flood through the same
- * neighbour interface, so a basin straddling a face seam counts once. */
+ * Priority-Flood, Barnes et al. 2014) raises, and its volume is the water that fill
+ * holds there (docs/pits.md, "Metrics"): the sum of (fill - h) * area over its cells.
+ * The minimal fill, not the epsilon-fill, decides both: the epsilon-fill also lifts
+ * drained flats by ulps to give them a slope, but water already leaves them, and its
+ * ulps hold no water either. This makes the count 0 after every method here, plain or
+ * epsilon, and needs one fill only. Regions are found with a FIFO flood through the
+ * same neighbour interface, so a basin straddling a face seam counts once. */
 #include "pg_huge.h"
 #include "pg_pits_internal.h"
 
@@ -24,7 +24,7 @@ static double cell_area(const pg_pits_area *a, uint32_t id) {
 /* Flood one depression from cell s through the cells with dep[] == 1 (marking them 2);
  * adds its figures to st. Cells in id order of their region's first cell, breadth
  * first within a region: the sums are added in the same order whoever built dep. */
-static void scan_region(const pg_pits_topo *t, const float *h, const float *efill,
+static void scan_region(const pg_pits_topo *t, const float *h, const float *fill,
                         const pg_pits_area *area, uint8_t *dep, pits_fifo *q, uint32_t s,
                         pg_pits_stats *st) {
     uint32_t nb[8];
@@ -32,7 +32,7 @@ static void scan_region(const pg_pits_topo *t, const float *h, const float *efil
     dep[s] = 2;
     while (!pits_fifo_empty(q) && !q->oom) {
         uint32_t c = pits_fifo_pop(q);
-        double a = cell_area(area, c), d = (double)efill[c] - (double)h[c];
+        double a = cell_area(area, c), d = (double)fill[c] - (double)h[c];
         st->depression_cells++;
         st->depression_area_m2 += a;
         st->depression_volume_m3 += d * a;
@@ -47,11 +47,11 @@ static void scan_region(const pg_pits_topo *t, const float *h, const float *efil
     st->depressions++;
 }
 
-int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, const float *efill,
+int pits_count_regions(const pg_pits_topo *t, const float *h, uint8_t *dep, const float *fill,
                        const pg_pits_area *area, pg_pits_stats *st) {
     pits_fifo q = {0};
     for (uint64_t i = 0; i < t->ncells && !q.oom; i++)
-        if (dep[i] == 1) scan_region(t, h, efill, area, dep, &q, (uint32_t)i, st);
+        if (dep[i] == 1) scan_region(t, h, fill, area, dep, &q, (uint32_t)i, st);
     int oom = q.oom;
     pits_fifo_free(&q);
     return oom;
@@ -82,17 +82,18 @@ double pg_pits_cube_area_fn(void *ctx, uint32_t id) {
     return a->face[id % (a->n * a->n)];
 }
 
-static pg_status fill_copy(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, int eps,
+/* The minimal fill of h into *out (allocated), its sink count into *nsinks. */
+static pg_status fill_copy(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
                            float **out, uint64_t *nsinks, pg_error *err) {
     pg_pits_opts f = *o;
     f.method = PG_PITS_FILL;
-    f.epsilon = eps;
+    f.epsilon = 0;
     float *c = pg_huge_malloc(t->ncells * sizeof *c);
     if (!c) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     memcpy(c, h, t->ncells * sizeof *c);
     pg_pits_result res = {0};
-    pg_status s = pg_pits_remove(t, c, &f, nsinks ? &res : NULL, err);
-    if (nsinks) *nsinks = res.sinks;
+    pg_status s = pg_pits_remove(t, c, &f, &res, err);
+    *nsinks = res.sinks;
     if (s) {
         free(c);
         return s;
@@ -114,37 +115,6 @@ pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts
     pits_end(t, f, &fo, st);
     free(st);
     return PG_OK;
-}
-
-/* The epsilon-surface of h into *efill: from its minimal fill f (not changed) when that
- * checks out (pits_eps_from_fill), else from its own flood of h. */
-static pg_status eps_surface(const pg_pits_topo *t, const float *h, float *f, const pg_pits_opts *o,
-                             float **efill, pg_error *err) {
-    float *w = pg_huge_malloc(t->ncells * sizeof *w);
-    if (!w) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
-    int exact = 0;
-    uint64_t nsinks = 0;
-    pg_status s = pits_eps_from_fill(t, f, o, w, &exact, &nsinks, err);
-    if (!s && exact) {
-        *efill = w;
-        return PG_OK;
-    }
-    free(w);
-    return s ? s : fill_copy(t, h, o, 1, efill, NULL, err);
-}
-
-/* The minimal fill, then the epsilon-fill from it. One after the other: the plain fill
- * is itself parallel (Barnes 2016 tiles), and side by side their working memory added
- * up (25 MB more peak on the default planet than the fills' outputs). */
-static pg_status both_fills(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
-                            float **fill, float **efill, uint64_t *nsinks, pg_error *err) {
-    pg_status s = fill_copy(t, h, o, 0, fill, nsinks, err);
-    if (!s) s = eps_surface(t, h, *fill, o, efill, err);
-    if (s) {
-        free(*fill);
-        *fill = *efill = NULL;
-    }
-    return s;
 }
 
 /* Whether h has no depression at all, in one linear search: from the sinks, step to
@@ -198,14 +168,18 @@ static pg_status no_depression(const pg_pits_topo *t, const float *h, const pg_p
 }
 
 /* A certificate that h has no depression, checked cell by cell: if every OPEN cell has
- * a neighbour that is not OPEN (a sink: water leaves there), or whose p is strictly
- * lower and whose h is not higher, then from any cell a walk along such neighbours
- * strictly lowers p, so it ends, and only at a sink; h never rises on the way, so
- * the minimal fill raises no cell. With p = h this is "every cell has a strictly lower
- * neighbour", what an epsilon result has everywhere; with p the epsilon-surface of a
- * plain fill's input it covers the fill's flats. A false answer proves nothing (the
- * caller then counts); a true one is exact. Linear, parallel, no queue. */
-int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p) {
+ * a neighbour that is not OPEN (a sink: water leaves there), or one lower in a
+ * potential and not higher in h, then from any cell a walk along such neighbours
+ * strictly lowers the potential, so it ends, and only at a sink; h never rises on the
+ * way, so the minimal fill raises no cell. The potential is order when given, else p.
+ * With p = h this is "every cell has a strictly lower neighbour", what an epsilon
+ * result has everywhere; for a plain fill's flats, p the epsilon-surface of its input,
+ * or order the order in which the serial flood closed the cells (each cell is closed
+ * from a neighbour closed before it and not higher). A false answer proves nothing
+ * (the caller then counts); a true one is exact, whoever computed the potential.
+ * Linear, parallel, no queue. */
+int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p,
+                   const uint32_t *order) {
     int64_t bad = 0;
     const int64_t n = (int64_t)t->ncells;
 #pragma omp parallel for reduction(+ : bad) schedule(static)
@@ -213,8 +187,11 @@ int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, con
         if (st[i] != PITS_OPEN) continue;
         uint32_t nb[8];
         int k = pg_pits_neighbours(t, (uint32_t)i, nb), ok = 0;
-        for (int j = 0; j < k && !ok; j++)
-            ok = st[nb[j]] != PITS_OPEN || (p[nb[j]] < p[i] && h[nb[j]] <= h[i]);
+        for (int j = 0; j < k && !ok; j++) {
+            uint32_t m = nb[j];
+            int lower = order ? order[m] < order[i] : p[m] < p[i];
+            ok = st[m] != PITS_OPEN || (lower && h[m] <= h[i]);
+        }
         bad += !ok;
     }
     return bad == 0;
@@ -227,15 +204,15 @@ static void mark_raised(uint64_t n, const float *h, const float *fill, uint8_t *
         dep[i] = fill[i] > h[i];
 }
 
-pg_status pits_stats_from_fills(const pg_pits_topo *t, const float *h, const float *fill,
-                                const float *efill, const pg_pits_area *area, uint64_t nsinks,
-                                pg_pits_stats *st, pg_error *err) {
+pg_status pits_stats_from_fill(const pg_pits_topo *t, const float *h, const float *fill,
+                               const pg_pits_area *area, uint64_t nsinks, pg_pits_stats *st,
+                               pg_error *err) {
     memset(st, 0, sizeof *st);
     st->sinks = nsinks;
     uint8_t *dep = pg_huge_malloc(t->ncells);
     if (!dep) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics");
     mark_raised(t->ncells, h, fill, dep);
-    int oom = pits_count_regions(t, h, dep, efill, area, st);
+    int oom = pits_count_regions(t, h, dep, fill, area, st);
     free(dep);
     return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics") : PG_OK;
 }
@@ -244,11 +221,10 @@ pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const
                                     const pg_pits_area *area, pg_pits_stats *st, pg_error *err) {
     memset(st, 0, sizeof *st);
     uint64_t nsinks = 0;
-    float *fill = NULL, *efill = NULL;
-    pg_status s = both_fills(t, h, o, &fill, &efill, &nsinks, err);
-    if (!s) s = pits_stats_from_fills(t, h, fill, efill, area, nsinks, st, err);
+    float *fill = NULL;
+    pg_status s = fill_copy(t, h, o, &fill, &nsinks, err);
+    if (!s) s = pits_stats_from_fill(t, h, fill, area, nsinks, st, err);
     free(fill);
-    free(efill);
     return s;
 }
 
