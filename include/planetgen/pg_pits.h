@@ -133,8 +133,10 @@ typedef struct pg_pits_opts {
     float nodata;         /* cells come back as nodata); without has_nodata, NaN cells
                              are PG_ERR_BADINPUT */
     /* Plain fill runs the tiled parallel Priority-Flood (Barnes 2016) when more than
-     * one OpenMP thread is available or tile_rows > 0 (rows per tile; 0 = automatic).
-     * Its result is bit-identical to the serial fill. Thread count: OpenMP's. */
+     * one OpenMP thread is available or tile_rows > 0 (rows per tile; 0 = automatic);
+     * pg_pits_remove_counted only when tile_rows > 0 (its check after is cheaper on
+     * the serial flood). The result is bit-identical to the serial fill. Thread
+     * count: OpenMP's. */
     int tile_rows;
     /* breach and hybrid: carve along the descent tree of the minimal epsilon-surface
      * instead of the flood tree (src/pg_pits_descent_breach.c). Its result depends on

@@ -178,7 +178,8 @@ static pg_status count_after(const pg_pits_topo *t, float *h, const pg_pits_opts
     return PG_OK;
 }
 
-/* The counts after a plain fill f made by the tiled fill, which keeps no closing order:
+/* The counts after a plain fill f made by the tiled fill (tiles asked for), which keeps
+ * no closing order:
  * the epsilon-surface of its input from f's flats (pits_meps_from_fill). When that
  * checks out, every cell got its value from an exit of its flat, so each has a path
  * along its flat to a cell with a lower neighbour or a sink neighbour, and f has no
@@ -208,7 +209,9 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
     const int descent = o->method != PG_PITS_FILL && o->descent;
     const int soille = o->method == PG_PITS_BREACH && !o->descent;
-    const int serial_fill = plain_fill && !pits_tiled_fill(t, o);
+    /* a plain fill runs serially unless tiles are asked for: the check after the
+     * tiled fill costs more than its threads save (docs/pits.md, "Metrics") */
+    const int serial_fill = plain_fill && o->tile_rows <= 0;
     float *in = pg_huge_malloc(n * sizeof *in), *fill = NULL;
     uint32_t *order = NULL;
     if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
