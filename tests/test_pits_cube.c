@@ -1,12 +1,14 @@
 /* test_pits_cube.c - pit removal on the cube sphere: the seam neighbours agree with
  * an independent geometric construction (7 at the cube corners), a depression
  * straddling a face seam and one at a cube corner are removed by every method, a
- * planet without ocean drains to its single lowest texel, and the Gain-pit offset
- * update reproduces the pit-free heights. */
+ * planet without ocean drains to its single lowest texel, the counts taken with the
+ * removal agree with the separate counts (the certificates across seams and corners),
+ * and the Gain-pit offset update reproduces the pit-free heights. */
 #include "pg_test.h"
 #include "pits_checker.h"
 #include "planetgen/pg_cube.h"
 #include "planetgen/pg_pits.h"
+#include "pg_pits_internal.h"
 
 #include <stdio.h>
 
@@ -85,9 +87,10 @@ static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, in
     pg_pits_opts_default(&o);
     o.has_sea_level = has_sea;
     o.sea_level = 0;
-    pg_pits_stats st;
-    assert_int_equal(pg_pits_stats_compute(t, dem, &o, NULL, &st, NULL), PG_OK);
-    assert_int_equal(st.depressions, expect_before);
+    pg_pits_stats st, st0;
+    assert_int_equal(pg_pits_stats_compute(t, dem, &o, NULL, &st0, NULL), PG_OK);
+    assert_int_equal(st0.depressions, expect_before);
+    st = st0;
     uint8_t *sk = chk_sinks(dem, g.n, has_sea, 0, NULL, 0, 0, 0);
     assert_true(chk_undrained(&g, dem, sk, 0) > 0);
     for (int m = 0; m < 3; m++)
@@ -107,6 +110,32 @@ static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, in
             assert_int_equal(pg_pits_stats_compute(t, h, &o, NULL, &st, NULL), PG_OK);
             assert_int_equal(st.depressions, 0);
             assert_true(r.raised + r.lowered > 0);
+            { /* the counts with the removal: the same result and figures */
+                float *c = malloc(sizeof(float) * g.n);
+                memcpy(c, dem, sizeof(float) * g.n);
+                pg_pits_stats before, after;
+                assert_int_equal(
+                    pg_pits_remove_counted(t, c, &o, NULL, NULL, &before, &after, NULL), PG_OK);
+                assert_memory_equal(c, h, sizeof(float) * g.n);
+                assert_memory_equal(&before, &st0, sizeof before);
+                assert_memory_equal(&after, &st, sizeof after);
+                free(c);
+            }
+            if (m == 0 && !eps) { /* the serial fill's closing order certifies it */
+                float *c = malloc(sizeof(float) * g.n);
+                uint32_t *order = malloc(sizeof(uint32_t) * g.n);
+                memcpy(c, dem, sizeof(float) * g.n);
+                assert_int_equal(pits_priority_flood_barnes2014(t, c, &o, NULL, NULL, order),
+                                 PG_OK);
+                uint8_t *cs = NULL;
+                uint64_t ns = 0;
+                assert_int_equal(pits_begin(t, c, &o, &cs, NULL, &ns, NULL), PG_OK);
+                assert_true(pits_drains_by(t, c, cs, NULL, order));
+                assert_false(pits_drains_by(t, dem, cs, NULL, order)); /* the pitted input */
+                free(cs);
+                free(order);
+                free(c);
+            }
             if (m == 0 && !eps) { /* tiled parallel fill (tiles span face seams) */
                 float *p = malloc(sizeof(float) * g.n);
                 memcpy(p, dem, sizeof(float) * g.n);
