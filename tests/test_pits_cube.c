@@ -123,7 +123,7 @@ static void check_all_methods(const pg_pits_topo *t, int N, const float *dem, in
             }
             if (m == 0 && !eps) { /* the serial fill's closing order certifies it */
                 float *c = malloc(sizeof(float) * g.n);
-                uint32_t *order = malloc(sizeof(uint32_t) * g.n);
+                uint32_t *order = calloc(g.n, sizeof(uint32_t));
                 memcpy(c, dem, sizeof(float) * g.n);
                 assert_int_equal(pits_priority_flood_barnes2014(t, c, &o, NULL, NULL, order),
                                  PG_OK);

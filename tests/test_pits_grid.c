@@ -503,6 +503,7 @@ static void test_remove_counted(void **state) {
             assert_memory_equal(a, b, sizeof(float) * n);
             assert_int_equal(ra.raised, rb.raised);
             assert_int_equal(ra.lowered, rb.lowered);
+            assert_true(ra.max_raise == rb.max_raise && ra.max_lower == rb.max_lower);
             assert_int_equal(ra.sinks, rb.sinks);
             assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
             assert_same_stats(&before, &ref);
@@ -758,7 +759,7 @@ static void test_drain_certificate(void **state) {
         memcpy(eps, dem, sizeof(float) * n);
         assert_int_equal(pg_pits_remove(&t, eps, &o, NULL, NULL), PG_OK);
         /* the order in which the serial plain fill closes the cells */
-        uint32_t *order = malloc(sizeof(uint32_t) * n);
+        uint32_t *order = calloc(n, sizeof(uint32_t));
         float *fl = malloc(sizeof(float) * n);
         memcpy(fl, dem, sizeof(float) * n);
         o.epsilon = false;

@@ -179,11 +179,10 @@ static pg_status count_after(const pg_pits_topo *t, float *h, const pg_pits_opts
 }
 
 /* The counts after a plain fill f made by the tiled fill (tiles asked for), which keeps
- * no closing order:
- * the epsilon-surface of its input from f's flats (pits_meps_from_fill). When that
- * checks out, every cell got its value from an exit of its flat, so each has a path
- * along its flat to a cell with a lower neighbour or a sink neighbour, and f has no
- * depression; otherwise the full count. */
+ * no closing order: the epsilon-surface of its input from f's flats
+ * (pits_meps_from_fill). When that checks out, every cell got its value from an exit
+ * of its flat, so each has a path along its flat to a cell with a lower neighbour or a
+ * sink neighbour, and f has no depression; otherwise the full count. */
 static pg_status count_after_tiled_fill(const pg_pits_topo *t, float *f, const pg_pits_opts *o,
                                         const pg_pits_area *area, pg_pits_stats *after,
                                         pg_error *err) {
@@ -218,7 +217,8 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     memcpy(in, h, n * sizeof *in);
     const int need_fill = eps_fill || descent || soille;
     if (need_fill) fill = pg_huge_malloc(n * sizeof *fill);
-    if (serial_fill) order = pg_huge_malloc(n * sizeof *order);
+    if (serial_fill) /* zeroed: every value the certificate reads is defined */
+        order = pg_huge_calloc(n, sizeof *order);
     if ((need_fill && !fill) || (serial_fill && !order))
         s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     pg_pits_result local = {0};
@@ -237,7 +237,7 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
         s = pits_priority_flood_barnes2014(t, h, o, &local, err, order);
     else if (!s)
         s = dispatch(t, h, o, &local, err);
-    if (!s) summarise(t, in, h, &local);
+    if (!s && !plain_fill) summarise(t, in, h, &local);
     /* otherwise the minimal fill comes from its own flood; the other methods count as
      * pg_pits_stats_compute does */
     if (!s && need_fill && !have_fill) s = fill_of(t, in, o, 0, fill, err);
@@ -245,6 +245,13 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
         s = pits_stats_from_fill(t, in, plain_fill ? h : fill, area, local.sinks, before, err);
     else if (!s) /* a removal's input: search for "no depression" only after */
         s = pits_stats_compute_pitted(t, in, o, area, before, err);
+    if (!s && plain_fill) { /* what summarise would find: a fill raises exactly the
+                             * cells the count labels, by fill - h, and lowers none */
+        local.raised = before->depression_cells;
+        local.max_raise = before->max_depth_m;
+        local.lowered = 0;
+        local.max_lower = 0;
+    }
     free(in);
     free(fill);
     if (!s && plain_fill && !serial_fill)

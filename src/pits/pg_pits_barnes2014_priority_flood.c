@@ -56,7 +56,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
             uint32_t n = nb[j];
             if (st[n] != PITS_OPEN) continue;
             st[n] = PITS_CLOSED;
-            if (order) order[n] = closed++;
+            if (order) order[n] = ++closed;
             if (h[n] <= hc) {
                 h[n] = hc;
                 pits_fifo_push(&pit, n);

@@ -346,8 +346,9 @@ pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const
 int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p,
                    const uint32_t *order);
 
-/* The algorithms; h is modified in place. order (ncells, or NULL): for each non-sink
- * cell, the place in which the flood closed it, a potential for pits_drains_by. */
+/* The algorithms; h is modified in place. order (ncells, zeroed by the caller, or
+ * NULL): for each non-sink cell, the place (from 1) in which the flood closed it, a
+ * potential for pits_drains_by; the sinks keep their 0. */
 pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                          pg_pits_result *res, pg_error *err, uint32_t *order);
 pg_status pits_minimal_eps_planchon2002(const pg_pits_topo *t, float *h, const pg_pits_opts *o,

@@ -189,31 +189,48 @@ static inline int drains_cell(const float *h, const uint8_t *st, const float *p,
     return 0;
 }
 
+/* Whether neighbour m passes for cell i (no branch: see row_bad). */
+#define PITS_PASSES(m)                                                                             \
+    ((st[m] != PITS_OPEN) | ((by_order ? order[m] < order[i] : p[m] < p[i]) & (h[m] <= h[i])))
+
+/* The cells x in [1, w - 1) of the row starting at id r, whose rows above and below are
+ * in the same face: how many fail. The 8 neighbours are fixed offsets, and the test
+ * has no branch and no early exit, so the compiler vectorises it along the row (the
+ * same answer as drains_cell, which stops at the first neighbour that passes). */
+static inline int64_t row_bad(const float *h, const uint8_t *st, const float *p,
+                              const uint32_t *order, const int by_order, uint64_t r, uint64_t w) {
+    int64_t bad = 0;
+    for (uint64_t i = r + 1; i < r + w - 1; i++) {
+        int ok = (st[i] != PITS_OPEN) | PITS_PASSES(i - w - 1) | PITS_PASSES(i - w) |
+                 PITS_PASSES(i - w + 1) | PITS_PASSES(i - 1) | PITS_PASSES(i + 1) |
+                 PITS_PASSES(i + w - 1) | PITS_PASSES(i + w) | PITS_PASSES(i + w + 1);
+        bad += !ok;
+    }
+    return bad;
+}
+#undef PITS_PASSES
+
 int pits_drains_by(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *p,
                    const uint32_t *order) {
     int64_t bad = 0;
     const uint32_t w = t->w, fh = t->h;
     const int64_t rows = (int64_t)(t->ncells / w);
-    /* row by row: interior cells take the 8 offsets without the division that
-     * pg_pits_neighbours spends on each id (same neighbours, same order) */
+    /* row by row: the interior of a row in row_bad, its ends and the rows at a face's
+     * edge through pg_pits_neighbours */
 #pragma omp parallel for reduction(+ : bad) schedule(static)
     for (int64_t r = 0; r < rows; r++) {
         const uint32_t y = (uint32_t)(r % fh);
         const uint64_t row = (uint64_t)r * w;
-        const int inner = y - 1u < fh - 2u;
+        const int inner = y - 1u < fh - 2u && w > 2;
+        if (inner)
+            bad +=
+                order ? row_bad(h, st, NULL, order, 1, row, w) : row_bad(h, st, p, NULL, 0, row, w);
         for (uint32_t x = 0; x < w; x++) {
+            if (inner && x == 1) x = w - 1; /* the interior is done */
             const uint64_t i = row + x;
             if (st[i] != PITS_OPEN) continue;
             uint32_t nb[8];
-            int k;
-            if (inner && x - 1u < w - 2u) {
-                const uint32_t c = (uint32_t)i;
-                nb[0] = c - w - 1, nb[1] = c - w, nb[2] = c - w + 1, nb[3] = c - 1;
-                nb[4] = c + 1, nb[5] = c + w - 1, nb[6] = c + w, nb[7] = c + w + 1;
-                k = 8;
-            } else {
-                k = pg_pits_neighbours(t, (uint32_t)i, nb);
-            }
+            int k = pg_pits_neighbours(t, (uint32_t)i, nb);
             bad += !drains_cell(h, st, p, order, i, nb, k);
         }
     }
