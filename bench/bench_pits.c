@@ -27,8 +27,11 @@
  *                          docs/pits.md ("Hard DEM").
  *
  * usage: bench_pits [--synthetic] [--n N] [--flat-only|--planet-only|--hard FILE]
- *                   [--no-stats] [--only PREFIX] [--rows]
- *        (--only "fill (plain)": only the methods whose name starts so; --rows: print
+ *                   [--no-stats] [--only PREFIX] [--repeat N] [--rows]
+ *        (--only "fill (plain)": only the methods whose name starts so; --repeat N:
+ *        N passes, each figure the minimum over them; with PG_BENCH_BEFORE each pass
+ *        runs the earlier revision first, so both sides alternate and get the same
+ *        treatment on a machine whose speed drifts; --rows: print
  *        only "ROW <section> | <method> | <threads> <seconds>" lines, for a later
  *        revision to compare against)
  *        bench_pits --synth [--images DIR]   (Gain-pit's share of a 1024^2 flat
@@ -111,9 +114,12 @@ typedef struct rows {
 
 typedef struct bctx {
     int rows_only, stats;
+    int repeat; /* passes (--repeat): each figure is its minimum over them */
+    int last;   /* this is the last pass: print */
     const char *only;
     rows before, now;
-    rows before_hash; /* 53 bits of each result's FNV-1a hash, exact in a double */
+    rows now_cpu, now_ok; /* CPU seconds' minimum; 1 while every pass agreed, else 0 */
+    rows before_hash;     /* 53 bits of each result's FNV-1a hash, exact in a double */
     double richdem_fill, richdem_breach; /* seconds, 0 when not run */
 } bctx;
 
@@ -129,26 +135,50 @@ static void rows_add(rows *r, const char *key, double sec) {
     r->sec[r->n++] = sec;
 }
 
+/* Adds a row, or keeps the smaller of two figures under one key (--repeat). */
+static void rows_add_min(rows *r, const char *key, double sec) {
+    for (size_t i = 0; i < r->n; i++)
+        if (!strncmp(r->key[i], key, sizeof r->key[0] - 1)) {
+            if (sec < r->sec[i]) r->sec[i] = sec;
+            return;
+        }
+    rows_add(r, key, sec);
+}
+
 static double rows_find(const rows *r, const char *key) {
     for (size_t i = 0; i < r->n; i++)
         if (!strcmp(r->key[i], key)) return r->sec[i];
     return 0;
 }
 
-/* Records a figure; returns " (before X s, Y x)" for printing, or "" without one. */
-static const char *figure(bctx *b, const char *section, const char *method, int threads, double sec,
-                          char *buf, size_t size) {
+/* Records a figure and sets *sec to its minimum over the passes so far; returns
+ * " (before X s, Y x)" for printing, or "" without one. */
+static const char *figure(bctx *b, const char *section, const char *method, int threads,
+                          double *sec, char *buf, size_t size) {
     char key[128];
     snprintf(key, sizeof key, "%s | %s | %d", section, method, threads);
-    rows_add(&b->now, key, sec);
+    rows_add_min(&b->now, key, *sec);
+    *sec = rows_find(&b->now, key);
     buf[0] = 0;
     if (b->rows_only) {
-        printf("ROW %s %.4f\n", key, sec);
+        if (b->last) printf("ROW %s %.4f\n", key, *sec);
         return buf;
     }
     double was = rows_find(&b->before, key);
-    if (was > 0) snprintf(buf, size, " (before %.2f s, %.2fx)", was, was / sec);
+    if (was > 0) snprintf(buf, size, " (before %.2f s, %.2fx)", was, was / *sec);
     return buf;
+}
+
+/* The minimum of a CPU time over the passes so far. */
+static double cpu_min(bctx *b, const char *key, double cpu) {
+    rows_add_min(&b->now_cpu, key, cpu);
+    return rows_find(&b->now_cpu, key);
+}
+
+/* Whether a check held on every pass so far. */
+static int held(bctx *b, const char *key, int ok) {
+    rows_add_min(&b->now_ok, key, ok ? 2 : 1); /* rows_find gives 0 for "absent" */
+    return rows_find(&b->now_ok, key) == 2;
 }
 
 static void count(bctx *b, const char *section, const char *what, const pg_pits_topo *t,
@@ -163,8 +193,8 @@ static void count(bctx *b, const char *section, const char *what, const pg_pits_
     *sec = omp_get_wtime() - t0;
     char buf[96], name[64];
     snprintf(name, sizeof name, "count depressions %s", what);
-    const char *was = figure(b, section, name, omp_get_max_threads(), *sec, buf, sizeof buf);
-    if (!b->rows_only)
+    const char *was = figure(b, section, name, omp_get_max_threads(), sec, buf, sizeof buf);
+    if (!b->rows_only && b->last)
         printf("  %-30s %llu depressions, %llu cells, volume %.6g (%.2f s%s)\n", name,
                (unsigned long long)st.depressions, (unsigned long long)st.depression_cells,
                st.depression_volume_m3, *sec, was);
@@ -191,29 +221,37 @@ static void bench_method(bctx *b, const char *section, const run *r, const pg_pi
         sec[th - 1] = omp_get_wtime() - t0;
         cpu[th - 1] = cpu_seconds() - c0;
     }
-    const double sec_1 = sec[0], cpu_1 = cpu[0];
-    char b1[96], b2[96], key[128];
+    char b1[96], b2[96], key[128], ck[160];
     uint64_t hash = 0xcbf29ce484222325u;
     const unsigned char *bytes = (const unsigned char *)out[0];
     for (size_t i = 0; i < n * sizeof(float); i++)
         hash = (hash ^ bytes[i]) * 0x100000001b3u;
     double hash53 = (double)(hash >> 11);
     snprintf(key, sizeof key, "%s | %s", section, r->name);
-    if (b->rows_only) printf("HASH %s %.0f\n", key, hash53);
+    if (b->rows_only && b->last) printf("HASH %s %.0f\n", key, hash53);
     double was_hash = rows_find(&b->before_hash, key);
-    const char *same = !b->before_hash.n    ? ""
-                       : was_hash == hash53 ? "; same bytes as before: yes"
-                                            : "; same bytes as before: NO";
-    const char *w1 = figure(b, section, r->name, 1, sec[0], b1, sizeof b1);
-    const char *w2 = figure(b, section, r->name, 2, sec[1], b2, sizeof b2);
-    if (!b->rows_only) {
+    snprintf(ck, sizeof ck, "%s | same", key);
+    const int same_before = held(b, ck, was_hash == hash53);
+    snprintf(ck, sizeof ck, "%s | 1 and 2", key);
+    const int identical = held(b, ck, !memcmp(out[0], out[1], sizeof(float) * n));
+    const char *same = !b->before_hash.n ? ""
+                       : same_before     ? "; same bytes as before: yes"
+                                         : "; same bytes as before: NO";
+    const char *w1 = figure(b, section, r->name, 1, &sec[0], b1, sizeof b1);
+    const char *w2 = figure(b, section, r->name, 2, &sec[1], b2, sizeof b2);
+    snprintf(ck, sizeof ck, "%s | 1", key);
+    cpu[0] = cpu_min(b, ck, cpu[0]);
+    snprintf(ck, sizeof ck, "%s | 2", key);
+    cpu[1] = cpu_min(b, ck, cpu[1]);
+    const double sec_1 = sec[0], cpu_1 = cpu[0];
+    if (!b->rows_only && b->last) {
         size_t up = 0, down = 0;
         for (size_t i = 0; i < n; i++) {
             up += out[0][i] > dem[i];
             down += out[0][i] < dem[i];
         }
         printf("  %-30s raised %zu lowered %zu cells; identical for 1 and 2 threads: %s%s\n",
-               r->name, up, down, memcmp(out[0], out[1], sizeof(float) * n) ? "NO" : "yes", same);
+               r->name, up, down, identical ? "yes" : "NO", same);
         printf("  %-30s 1 thread %6.2f s%s %5.1f Mcells/s (cpu %.2f s)\n", "", sec[0], w1,
                n / 1e6 / sec[0], cpu[0]);
         printf("  %-30s 2 threads %5.2f s%s (cpu %.2f s); 2 vs 1 thread %.2fx\n", "", sec[1], w2,
@@ -221,10 +259,10 @@ static void bench_method(bctx *b, const char *section, const run *r, const pg_pi
     }
     if (b->stats) { /* what `planetgen pits` runs without --no-stats, on 1 thread */
         float *c = malloc(sizeof(float) * n);
-        memcpy(c, dem, sizeof(float) * n);
         omp_set_num_threads(1);
         pg_pits_stats before, after;
         pg_error err = {0};
+        memcpy(c, dem, sizeof(float) * n);
         double t0 = omp_get_wtime(), c0 = cpu_seconds();
 #ifdef PG_PITS_HAVE_REMOVE_COUNTED
         pg_status s = pg_pits_remove_counted(t, c, &o, NULL, NULL, &before, &after, &err);
@@ -234,14 +272,17 @@ static void bench_method(bctx *b, const char *section, const run *r, const pg_pi
         if (!s) s = pg_pits_stats_compute(t, c, &o, NULL, &after, &err);
 #endif
         double sec = omp_get_wtime() - t0, cs = cpu_seconds() - c0;
-        int same = !s && !memcmp(c, out[0], sizeof(float) * n);
+        snprintf(ck, sizeof ck, "%s | counted same", key);
+        const int same = held(b, ck, !s && !memcmp(c, out[0], sizeof(float) * n));
         free(c);
         char b3[96], m3[160];
         snprintf(m3, sizeof m3, "%s, counted", r->name);
-        const char *w3 = figure(b, section, m3, 1, sec, b3, sizeof b3);
+        const char *w3 = figure(b, section, m3, 1, &sec, b3, sizeof b3);
+        snprintf(ck, sizeof ck, "%s | counted", key);
+        cs = cpu_min(b, ck, cs);
         if (s)
             printf("  %-30s counted removal failed: %s\n", "", err.msg);
-        else if (!b->rows_only)
+        else if (!b->rows_only && b->last)
             printf("  %-30s with the counts (1 thread): %.2f s%s (cpu %.2f s), same result: %s;\n"
                    "  %-30s counts %llu depressions before, %llu after; counting costs %.2fx the "
                    "removal (cpu %.2fx; goal <= 0.5x)\n",
@@ -255,7 +296,7 @@ static void bench_method(bctx *b, const char *section, const run *r, const pg_pi
 static void bench(bctx *b, const char *label, const pg_pits_topo *t, const float *dem,
                   const pg_pits_opts *base, const run *runs, size_t nruns) {
     size_t n = t->ncells;
-    if (!b->rows_only)
+    if (!b->rows_only && b->last)
         printf("%s: %llu cells (%.1f Mcells)\n", label, (unsigned long long)n, n / 1e6);
     double before = 0;
     omp_set_num_threads(2);
@@ -435,9 +476,14 @@ static void richdem_ratios(const bctx *b, const rows *now) {
 static void before_run(bctx *b, const char *bin, int argc, char **argv) {
     char cmd[8192];
     size_t k = (size_t)snprintf(cmd, sizeof cmd, "'%s' --rows", bin);
-    for (int i = 1; i < argc && k < sizeof cmd; i++)
+    for (int i = 1; i < argc && k < sizeof cmd; i++) {
+        if (!strcmp(argv[i], "--repeat")) { /* an earlier revision may not know it */
+            i++;
+            continue;
+        }
         k += (size_t)snprintf(cmd + k, sizeof cmd - k, " '%s'", argv[i]);
-    printf("before: %s\n", cmd);
+    }
+    if (b->last) printf("before: %s\n", cmd);
     fflush(stdout);
     FILE *p = popen(cmd, "r");
     char line[512];
@@ -445,11 +491,11 @@ static void before_run(bctx *b, const char *bin, int argc, char **argv) {
         char *sp = strrchr(line, ' ');
         if (!sp) continue;
         *sp = 0;
-        if (!strncmp(line, "ROW ", 4)) rows_add(&b->before, line + 4, atof(sp + 1));
-        if (!strncmp(line, "HASH ", 5)) rows_add(&b->before_hash, line + 5, atof(sp + 1));
+        if (!strncmp(line, "ROW ", 4)) rows_add_min(&b->before, line + 4, atof(sp + 1));
+        if (!strncmp(line, "HASH ", 5)) rows_add_min(&b->before_hash, line + 5, atof(sp + 1));
     }
     if (p) pclose(p);
-    printf("before: %zu rows\n", b->before.n);
+    if (b->last) printf("before: %zu rows\n", b->before.n);
 }
 
 static const run HARD_RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
@@ -459,7 +505,7 @@ static const run HARD_RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
 
 int main(int argc, char **argv) {
     int synthetic = 0, flat = 1, planet = 1, hard = 1, synth = 0;
-    bctx b = {.stats = 1};
+    bctx b = {.stats = 1, .repeat = 1, .last = 1};
     const char *images = NULL; /* --synth: write shaded reliefs of both runs here */
     const char *hard_path = getenv("PG_BENCH_HARD");
     if (!hard_path) hard_path = "bench/out/hard_relief.exr";
@@ -481,6 +527,8 @@ int main(int argc, char **argv) {
             N = atol(argv[++i]);
         else if (!strcmp(argv[i], "--only") && i + 1 < argc)
             b.only = argv[++i];
+        else if (!strcmp(argv[i], "--repeat") && i + 1 < argc && atoi(argv[i + 1]) >= 1)
+            b.repeat = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--synth"))
             synth = 1, flat = planet = hard = 0;
         else if (!strcmp(argv[i], "--images") && i + 1 < argc)
@@ -488,7 +536,7 @@ int main(int argc, char **argv) {
         else {
             fprintf(stderr, "usage: bench_pits [--synthetic] [--n N] "
                             "[--flat-only|--planet-only|--hard FILE] [--no-stats] [--only PREFIX] "
-                            "[--rows]\n");
+                            "[--repeat N] [--rows]\n");
             return 2;
         }
     }
@@ -502,34 +550,16 @@ int main(int argc, char **argv) {
         }
         printf("bench_pits: %d OpenMP threads available, load average %.2f %.2f %.2f\n",
                omp_get_num_procs(), load[0], load[1], load[2]);
-        if (before_bin && *before_bin && !synth) before_run(&b, before_bin, argc, argv);
     }
     pg_pits_topo t;
     pg_error err = {0};
-    if (hard) {
-        int w = 0, h = 0;
-        float *dem = hard_dem(hard_path, &w, &h);
-        if (dem) {
-            pg_pits_opts o;
-            pg_pits_opts_default(&o);
-            o.open_edges = true; /* the map edges are the outlets; no sea level */
-            pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
-            if (!b.rows_only)
-                printf("hard DEM: %s, %dx%d raw grey levels, edges as outlets, no sea level\n",
-                       hard_path, w, h);
-            bench(&b, "hard DEM", &t, dem, &o, HARD_RUNS, sizeof HARD_RUNS / sizeof *HARD_RUNS);
-            free(dem);
-            if (!b.rows_only) {
-                if (richdem && *richdem) richdem_run(&b, richdem, hard_path);
-                richdem_ratios(&b, &b.now);
-            }
-        }
-    }
-    if (!flat && !planet && !synth) return 0;
+    /* the inputs, read once */
+    int hw = 0, hh = 0;
+    float *hdem = hard ? hard_dem(hard_path, &hw, &hh) : NULL;
     int w = 10800, h = 5400;
-    float *dem = NULL;
+    float *dem = NULL, *cube = NULL;
     double sea = 0;
-    if (!synthetic) {
+    if (!synthetic && (flat || planet || synth)) {
         pg_exemplar_opts eo;
         pg_exemplar_opts_default(&eo);
         eo.grid_width = w;
@@ -548,35 +578,64 @@ int main(int argc, char **argv) {
             printf("relief not available (%s); using the synthetic fractal\n", err.msg);
         }
     }
-    if (!dem) {
+    if (!dem && (flat || planet || synth)) {
         dem = fractal(w, h);
         if (!b.rows_only) printf("relief: synthetic fBm %dx%d, sea level 0 m\n", w, h);
     }
-    if (synth) bench_synth(dem, w, 1024, images);
-    pg_pits_opts o;
-    pg_pits_opts_default(&o);
-    o.has_sea_level = true;
-    o.sea_level = sea;
-    o.max_depth = 50;
-    o.max_length = 100;
-    if (flat) {
-        pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
-        o.open_edges = true;
-        bench(&b, "flat", &t, dem, &o, RUNS, sizeof RUNS / sizeof *RUNS);
+    if (synth) {
+        bench_synth(dem, w, 1024, images);
+        free(dem);
+        return 0;
     }
     if (planet) {
-        float *cube = malloc(sizeof(float) * 6 * (size_t)N * N);
+        cube = malloc(sizeof(float) * 6 * (size_t)N * N);
         if (pg_cube_from_equirect(PG_CUBE_EQUIANGULAR, N, NULL, dem, w, h, 1, 1, cube, &err)) {
             printf("resampling failed: %s\n", err.msg);
             return 1;
         }
-        pg_pits_topo_cube(&t, (uint32_t)N, NULL);
-        o.open_edges = false;
-        char label[64];
-        snprintf(label, sizeof label, "planet 6x%ld^2", N);
-        bench(&b, label, &t, cube, &o, RUNS, sizeof RUNS / sizeof *RUNS);
-        free(cube);
     }
+    if (b.repeat > 1 && !b.rows_only)
+        printf("%d passes, each figure the minimum over them%s\n", b.repeat,
+               before_bin && *before_bin ? "; each pass runs the earlier revision, then this one"
+                                         : "");
+    for (int pass = 0; pass < b.repeat; pass++) {
+        b.last = pass == b.repeat - 1;
+        if (before_bin && *before_bin && !b.rows_only) before_run(&b, before_bin, argc, argv);
+        if (hdem) {
+            pg_pits_opts o;
+            pg_pits_opts_default(&o);
+            o.open_edges = true; /* the map edges are the outlets; no sea level */
+            pg_pits_topo_grid(&t, (uint32_t)hw, (uint32_t)hh, NULL);
+            if (!b.rows_only && b.last)
+                printf("hard DEM: %s, %dx%d raw grey levels, edges as outlets, no sea level\n",
+                       hard_path, hw, hh);
+            bench(&b, "hard DEM", &t, hdem, &o, HARD_RUNS, sizeof HARD_RUNS / sizeof *HARD_RUNS);
+            if (!b.rows_only && b.last) {
+                if (richdem && *richdem) richdem_run(&b, richdem, hard_path);
+                richdem_ratios(&b, &b.now);
+            }
+        }
+        pg_pits_opts o;
+        pg_pits_opts_default(&o);
+        o.has_sea_level = true;
+        o.sea_level = sea;
+        o.max_depth = 50;
+        o.max_length = 100;
+        if (flat) {
+            pg_pits_topo_grid(&t, (uint32_t)w, (uint32_t)h, NULL);
+            o.open_edges = true;
+            bench(&b, "flat", &t, dem, &o, RUNS, sizeof RUNS / sizeof *RUNS);
+        }
+        if (planet) {
+            pg_pits_topo_cube(&t, (uint32_t)N, NULL);
+            o.open_edges = false;
+            char label[64];
+            snprintf(label, sizeof label, "planet 6x%ld^2", N);
+            bench(&b, label, &t, cube, &o, RUNS, sizeof RUNS / sizeof *RUNS);
+        }
+    }
+    free(hdem);
+    free(cube);
     free(dem);
     return 0;
 }
