@@ -32,8 +32,10 @@
 
 #include <stdlib.h>
 
-pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                         pg_pits_result *res, pg_error *err, uint32_t *order) {
+/* The flood; keep (0 or 1, a constant at each call) says whether to number the closed
+ * cells in order, so the plain flood's loop carries neither the test nor the counter. */
+static inline pg_status flood(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                              pg_pits_result *res, pg_error *err, uint32_t *order, const int keep) {
     pits_heap q = {0};
     pits_fifo pit = {0};
     uint8_t *st = NULL;
@@ -56,7 +58,7 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
             uint32_t n = nb[j];
             if (st[n] != PITS_OPEN) continue;
             st[n] = PITS_CLOSED;
-            if (order) order[n] = ++closed;
+            if (keep) order[n] = ++closed;
             if (h[n] <= hc) {
                 h[n] = hc;
                 pits_fifo_push(&pit, n);
@@ -75,4 +77,9 @@ pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const 
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory in the flood queues");
     if (res) res->sinks = nsinks;
     return PG_OK;
+}
+
+pg_status pits_priority_flood_barnes2014(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                         pg_pits_result *res, pg_error *err, uint32_t *order) {
+    return order ? flood(t, h, o, res, err, order, 1) : flood(t, h, o, res, err, NULL, 0);
 }
