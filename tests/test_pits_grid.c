@@ -659,6 +659,25 @@ static void test_eps_fill_gives_fill(void **state) {
         memcpy(b, d, sizeof(float) * n);
         assert_int_equal(pits_breach_soille2004_fill(&t, b, &o, NULL, f, NULL), PG_OK);
         assert_memory_equal(plain, f, sizeof(float) * n);
+        /* the descent tree's floods: the breach unchanged, its fill the plain fill's
+         * bytes (without epsilon always; with it whenever the check passes) */
+        for (int eps = 0; eps < 2; eps++) {
+            o.method = seed % 4 < 2 ? PG_PITS_BREACH : PG_PITS_HYBRID;
+            o.descent = true;
+            o.epsilon = eps;
+            int dex = -1;
+            memcpy(a, d, sizeof(float) * n);
+            assert_int_equal(pits_breach_descent(&t, a, &o, NULL, NULL), PG_OK);
+            memcpy(b, d, sizeof(float) * n);
+            assert_int_equal(pits_breach_descent_fill(&t, b, &o, NULL, f, &dex, NULL), PG_OK);
+            assert_memory_equal(a, b, sizeof(float) * n);
+            assert_true(dex == 0 || dex == 1);
+            if (!eps) assert_int_equal(dex, 1);
+            if (dex) assert_memory_equal(plain, f, sizeof(float) * n);
+            exacts += eps && dex;
+            cases += eps;
+            o.descent = false;
+        }
         free(plain);
         exacts += exact;
         free(d), free(a), free(b), free(f);
@@ -693,15 +712,24 @@ static void test_eps_fill_gives_fill(void **state) {
     memcpy(e, dem, sizeof e);
     assert_int_equal(pits_breach_soille2004_fill(&t, e, &o, NULL, f, NULL), PG_OK);
     assert_memory_equal(a, f, sizeof a); /* Soille's flood: right here too */
-    o.method = PG_PITS_FILL;
+    o.method = PG_PITS_BREACH;           /* the descent tree's epsilon flood refuses it as well */
+    o.descent = true;
     o.epsilon = true;
-    pg_pits_stats before, after, ref;
     memcpy(e, dem, sizeof e);
-    assert_int_equal(pg_pits_remove_counted(&t, e, &o, NULL, NULL, &before, &after, NULL), PG_OK);
-    assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
-    assert_same_stats(&before, &ref);
-    assert_int_equal(before.depression_cells, 1);
-    assert_int_equal(after.depressions, 0);
+    assert_int_equal(pits_breach_descent_fill(&t, e, &o, NULL, f, &exact, NULL), PG_OK);
+    assert_int_equal(exact, 0);
+    pg_pits_stats before, after, ref;
+    for (int m = 0; m < 2; m++) { /* and the counts agree after the refusal */
+        o.method = m ? PG_PITS_BREACH : PG_PITS_FILL;
+        o.descent = m;
+        memcpy(e, dem, sizeof e);
+        assert_int_equal(pg_pits_remove_counted(&t, e, &o, NULL, NULL, &before, &after, NULL),
+                         PG_OK);
+        assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
+        assert_same_stats(&before, &ref);
+        assert_int_equal(before.depression_cells, 1);
+        assert_int_equal(after.depressions, 0);
+    }
 }
 
 static void test_fill_eps_guess(void **state) {

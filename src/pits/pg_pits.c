@@ -224,11 +224,11 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     pg_pits_result local = {0};
     /* the removal, keeping what its floods computed about the input (docs/pits.md,
      * "Metrics"): a plain fill is the input's minimal fill, and the serial one keeps
-     * the order in which it closed the cells; the epsilon fill and Soille's flood give
-     * the minimal fill as well (checked) */
+     * the order in which it closed the cells; the epsilon fill, the descent tree's
+     * flood and Soille's flood give the minimal fill as well (checked) */
     int have_fill = 0; /* the removal gave the minimal fill */
     if (!s && descent)
-        s = pits_breach_descent(t, h, o, &local, err);
+        s = pits_breach_descent_fill(t, h, o, &local, fill, &have_fill, err);
     else if (!s && eps_fill)
         s = pits_minimal_eps_planchon2002_fill(t, h, o, &local, in, fill, &have_fill, err);
     else if (!s && soille)

@@ -169,8 +169,10 @@ static int fill_rest(descent *d, pits_heap *q, float *w) {
     return 0;
 }
 
-pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                              pg_pits_result *res, pg_error *err) {
+/* fill_out: NULL, or where the minimal fill of the input goes (*exact as in
+ * pits_breach_descent_fill). */
+static pg_status descent_run(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                             pg_pits_result *res, float *fill_out, int *exact, pg_error *err) {
     pits_heap q = {0};
     uint64_t nsinks = 0;
     uint8_t *st = NULL;
@@ -188,23 +190,41 @@ pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opt
     d.slot = pg_huge_malloc(t->ncells);
     d.pending = pg_huge_calloc(t->ncells, 1);
     d.len = hybrid ? pg_huge_calloc(t->ncells, sizeof *d.len) : NULL;
-    float *fill = o->epsilon ? NULL : pg_huge_malloc(t->ncells * sizeof *fill);
+    float *fill = o->epsilon ? NULL
+                  : fill_out ? fill_out
+                             : pg_huge_malloc(t->ncells * sizeof *fill);
     int oom = !d.v || !d.slot || !d.pending || (hybrid && !d.len) || (!o->epsilon && !fill);
     if (!oom && fill) { /* the minimal fill first, then the same sinks for W */
         oom = pits_meps_compute(t, h, NULL, st, &q, fill, 0);
         for (uint64_t i = 0; i < t->ncells; i++)
             if (st[i] == PITS_CLOSED) st[i] = PITS_OPEN;
         d.fill = fill;
+        if (exact) *exact = 1;
     }
-    if (!oom) oom = pits_meps_compute(t, h, fill ? NULL : o, st, &q, d.v, 1);
+    if (!oom && !fill && fill_out) /* W and, along its tree, the minimal fill (checked) */
+        oom = pits_meps_compute_fill(t, h, o, st, &q, d.v, fill_out, exact);
+    else if (!oom)
+        oom = pits_meps_compute(t, h, fill ? NULL : o, st, &q, d.v, 1);
     if (!oom) build_tree(&d);
     if (!oom) sweep(&d);
     if (!oom && hybrid) oom = fill_rest(&d, &q, d.v);
     pits_heap_free(&q);
-    free(d.v), free(fill), free(d.slot), free(d.pending), free(d.len);
+    if (fill != fill_out) free(fill);
+    free(d.v), free(d.slot), free(d.pending), free(d.len);
     pits_end(t, h, o, st);
     free(st);
     if (oom) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for breaching");
     if (res) res->sinks = nsinks, res->breaches = d.channels;
     return PG_OK;
+}
+
+pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                              pg_pits_result *res, pg_error *err) {
+    return descent_run(t, h, o, res, NULL, NULL, err);
+}
+
+pg_status pits_breach_descent_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                   pg_pits_result *res, float *fill, int *exact, pg_error *err) {
+    *exact = 0;
+    return descent_run(t, h, o, res, fill, exact, err);
 }

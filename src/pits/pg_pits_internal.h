@@ -284,6 +284,11 @@ int pits_meps_flood(pits_meps *m, pits_heap *q);
  * (same bits); NULL: the flood. Returns nonzero when out of memory. */
 int pits_meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
                       const pits_heap *q, float *w, int eps);
+/* The same with eps = 1, and the minimal fill of h along the flood's tree into fill;
+ * *exact says whether it checked out as the minimal fill (else the caller floods for
+ * it). Returns nonzero when out of memory. */
+int pits_meps_compute_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
+                           uint8_t *st, const pits_heap *q, float *w, float *fill, int *exact);
 /* The epsilon-surface of a plain fill's input from the fill f (states st from
  * pits_begin on f) into w, by distances on f's flats, checked against (1): 0 when w
  * is exact, nonzero when the check failed or memory ran out (then flood instead). */
@@ -362,6 +367,11 @@ pg_status pits_minimal_eps_planchon2002_fill(const pg_pits_topo *t, float *h, co
                                              int *exact, pg_error *err);
 pg_status pits_breach_descent(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                               pg_pits_result *res, pg_error *err);
+/* The same breach, and with it the minimal fill of its input into fill (ncells
+ * floats): without epsilon it is the tree's own first flood; with it, the epsilon
+ * flood's tree gives it, *exact = 1 when that checks out, else fill is undefined. */
+pg_status pits_breach_descent_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                   pg_pits_result *res, float *fill, int *exact, pg_error *err);
 pg_status pits_breach_soille2004(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                  pg_pits_result *res, pg_error *err);
 /* The same breach, and with it the minimal fill of its input into fill (ncells

@@ -423,3 +423,11 @@ pg_status pits_minimal_eps_planchon2002_fill(const pg_pits_topo *t, float *h, co
     *exact = 0;
     return eps_fill(t, h, o, res, in, fill, exact, err);
 }
+
+int pits_meps_compute_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
+                           uint8_t *st, const pits_heap *q, float *w, float *fill, int *exact) {
+    *exact = 0;
+    if (meps_compute(t, h, o, st, q, w, 1, fill)) return -1;
+    *exact = !fill_check(t, h, st, fill);
+    return 0;
+}
