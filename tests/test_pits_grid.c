@@ -619,10 +619,11 @@ static void check_fill_eps(const pg_pits_topo *t, const float *dem, pg_pits_opts
  * which it does on grids of wide integer flats; refused where the epsilon-surface's
  * cheapest path crosses ground one ulp above the fill (an exit one ulp higher than the
  * rim, beside a long flat), and the counts then still agree. Soille's flood gives the
- * minimal fill as its running maximum (pits_breach_soille2004_fill): always exact. */
+ * minimal fill as its running maximum (pits_breach_soille2004_fill), and so does Lindsay's
+ * hybrid flood (pits_hybrid_lindsay2016_fill): always exact. */
 static void test_eps_fill_gives_fill(void **state) {
     (void)state;
-    int exacts = 0, cases = 0, exact = 0;
+    int exacts = 0, cases = 0, exact = 0, carved = 0;
     pg_pits_topo t;
     pg_pits_opts o;
     for (uint32_t seed = 600; seed < 630; seed++, cases++) {
@@ -659,6 +660,18 @@ static void test_eps_fill_gives_fill(void **state) {
         memcpy(b, d, sizeof(float) * n);
         assert_int_equal(pits_breach_soille2004_fill(&t, b, &o, NULL, f, NULL), PG_OK);
         assert_memory_equal(plain, f, sizeof(float) * n);
+        /* Lindsay's hybrid flood too, whatever it carves or fills; its result unchanged */
+        o.method = PG_PITS_HYBRID;
+        o.max_depth = seed % 3 ? 15.0 : INFINITY;
+        o.max_length = (double)(seed % 4) * 6; /* 0: the plain fill */
+        memcpy(a, d, sizeof(float) * n);
+        assert_int_equal(pits_hybrid_lindsay2016(&t, a, &o, NULL, NULL), PG_OK);
+        memcpy(b, d, sizeof(float) * n);
+        pg_pits_result rl;
+        assert_int_equal(pits_hybrid_lindsay2016_fill(&t, b, &o, &rl, f, NULL), PG_OK);
+        assert_memory_equal(a, b, sizeof(float) * n);
+        assert_memory_equal(plain, f, sizeof(float) * n);
+        carved += rl.breaches > 0;
         /* the descent tree's floods: the breach unchanged, its fill the plain fill's
          * bytes (without epsilon always; with it whenever the check passes) */
         for (int eps = 0; eps < 2; eps++) {
@@ -683,6 +696,7 @@ static void test_eps_fill_gives_fill(void **state) {
         free(d), free(a), free(b), free(f);
     }
     assert_true(exacts >= cases - 2);
+    assert_true(carved >= 10); /* Lindsay's channels were carved, not only filled */
     /* sea | X2 = up(s) | P | X1 .. X10 = s | sea: P's cheapest epsilon path leaves over
      * X2 (up(s) + 1 ulp against s + 10 ulps over the flat), its fill is s (over X1) */
     enum { W = 14, H = 3 };
@@ -712,7 +726,11 @@ static void test_eps_fill_gives_fill(void **state) {
     memcpy(e, dem, sizeof e);
     assert_int_equal(pits_breach_soille2004_fill(&t, e, &o, NULL, f, NULL), PG_OK);
     assert_memory_equal(a, f, sizeof a); /* Soille's flood: right here too */
-    o.method = PG_PITS_BREACH;           /* the descent tree's epsilon flood refuses it as well */
+    o.method = PG_PITS_HYBRID;           /* and Lindsay's */
+    memcpy(e, dem, sizeof e);
+    assert_int_equal(pits_hybrid_lindsay2016_fill(&t, e, &o, NULL, f, NULL), PG_OK);
+    assert_memory_equal(a, f, sizeof a);
+    o.method = PG_PITS_BREACH; /* the descent tree's epsilon flood refuses it as well */
     o.descent = true;
     o.epsilon = true;
     memcpy(e, dem, sizeof e);

@@ -208,6 +208,7 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     const int eps_fill = o->method == PG_PITS_FILL && o->epsilon;
     const int descent = o->method != PG_PITS_FILL && o->descent;
     const int soille = o->method == PG_PITS_BREACH && !o->descent;
+    const int lindsay = o->method == PG_PITS_HYBRID && !o->descent;
     /* a plain fill runs serially unless tiles are asked for: the check after the
      * tiled fill costs more than its threads save (docs/pits.md, "Metrics") */
     const int serial_fill = plain_fill && o->tile_rows <= 0;
@@ -215,7 +216,7 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     uint32_t *order = NULL;
     if (!in) return pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory");
     memcpy(in, h, n * sizeof *in);
-    const int need_fill = eps_fill || descent || soille;
+    const int need_fill = !plain_fill; /* every other method counts from the minimal fill */
     if (need_fill) fill = pg_huge_malloc(n * sizeof *fill);
     if (serial_fill) /* zeroed: every value the certificate reads is defined */
         order = pg_huge_calloc(n, sizeof *order);
@@ -224,8 +225,9 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
     pg_pits_result local = {0};
     /* the removal, keeping what its floods computed about the input (docs/pits.md,
      * "Metrics"): a plain fill is the input's minimal fill, and the serial one keeps
-     * the order in which it closed the cells; the epsilon fill, the descent tree's
-     * flood and Soille's flood give the minimal fill as well (checked) */
+     * the order in which it closed the cells; the epsilon floods (the epsilon fill's,
+     * the descent tree's) give the minimal fill as well, checked, and Soille's and
+     * Lindsay's floods give it exactly */
     int have_fill = 0; /* the removal gave the minimal fill */
     if (!s && descent)
         s = pits_breach_descent_fill(t, h, o, &local, fill, &have_fill, err);
@@ -233,18 +235,16 @@ pg_status pg_pits_remove_counted(const pg_pits_topo *t, float *h, const pg_pits_
         s = pits_minimal_eps_planchon2002_fill(t, h, o, &local, in, fill, &have_fill, err);
     else if (!s && soille)
         s = pits_breach_soille2004_fill(t, h, o, &local, fill, err), have_fill = 1;
+    else if (!s && lindsay)
+        s = pits_hybrid_lindsay2016_fill(t, h, o, &local, fill, err), have_fill = 1;
     else if (!s && serial_fill)
         s = pits_priority_flood_barnes2014(t, h, o, &local, err, order);
     else if (!s)
         s = dispatch(t, h, o, &local, err);
     if (!s && !plain_fill) summarise(t, in, h, &local);
-    /* otherwise the minimal fill comes from its own flood; the other methods count as
-     * pg_pits_stats_compute does */
+    /* otherwise (a check refused) the minimal fill comes from its own flood */
     if (!s && need_fill && !have_fill) s = fill_of(t, in, o, 0, fill, err);
-    if (!s && (plain_fill || need_fill))
-        s = pits_stats_from_fill(t, in, plain_fill ? h : fill, area, local.sinks, before, err);
-    else if (!s) /* a removal's input: search for "no depression" only after */
-        s = pits_stats_compute_pitted(t, in, o, area, before, err);
+    if (!s) s = pits_stats_from_fill(t, in, plain_fill ? h : fill, area, local.sinks, before, err);
     if (!s && plain_fill) { /* what summarise would find: a fill raises exactly the
                              * cells the count labels, by fill - h, and lowers none */
         local.raised = before->depression_cells;

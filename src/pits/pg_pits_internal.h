@@ -340,11 +340,6 @@ pg_status pits_stats_from_fill(const pg_pits_topo *t, const float *h, const floa
  * flood. f is left as it was. */
 pg_status pits_eps_from_fill(const pg_pits_topo *t, float *f, const pg_pits_opts *o, float *w,
                              int *exact, uint64_t *nsinks, pg_error *err);
-/* pg_pits_stats_compute for an h that very likely has depressions (the input of a
- * removal): the same figures, without first searching for the case of none, which
- * the fills then show at their own cost. */
-pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
-                                    const pg_pits_area *area, pg_pits_stats *st, pg_error *err);
 /* Whether h (states st from pits_begin) certainly has no depression: every OPEN cell
  * has a neighbour that is not OPEN, or one lower in the potential (order when not NULL,
  * else p) whose h is not higher. */
@@ -385,5 +380,9 @@ pg_status pits_parallel_fill_barnes2016(const pg_pits_topo *t, float *h, const p
                                         pg_pits_result *res, pg_error *err);
 pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                                   pg_pits_result *res, pg_error *err);
+/* The same hybrid, and with it the minimal fill of its input into fill (ncells
+ * floats; exact as Soille's, the file says why). */
+pg_status pits_hybrid_lindsay2016_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                       pg_pits_result *res, float *fill, pg_error *err);
 
 #endif

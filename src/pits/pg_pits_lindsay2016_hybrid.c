@@ -26,7 +26,15 @@
  * path, a filled cell is put at/above its parent, and cells whose parents are lowered
  * only gain slope. The depth test uses the original heights, so no cell ever ends
  * lower than max_depth below where it started; channels are at most max_length.
- * With max_length 0 no channel is ever carved and the result is exactly the fill. */
+ * With max_length 0 no channel is ever carved and the result is exactly the fill.
+ *
+ * The minimal fill of the input comes with the flood on request (the depression
+ * counts, pg_pits_remove_counted): the highest input height popped so far, at each
+ * cell as it pops, as in pg_pits_soille2004_breach.c. Why it holds here too: the heap
+ * keys are input heights, and the FIFO and the channels only ever queue cells at or
+ * below the level already reached, which pop before any higher key; so, as in
+ * Priority-Flood, a cell still open when the level reaches L has no path to a sink
+ * below L, and a cell reached from c is at most c's fill or its own height. */
 #include "pg_huge.h"
 #include "pg_pits_internal.h"
 
@@ -39,6 +47,7 @@ typedef struct hybrid {
     uint8_t *st;
     uint32_t *parent;
     uint8_t *filled; /* 1: raised by the fill (popped from the FIFO) */
+    float *fill;     /* NULL, or the minimal fill of the input (the running maximum) */
     double max_depth, max_length;
     uint64_t breaches, fills;
 } hybrid;
@@ -91,8 +100,10 @@ static void visit(hybrid *s, uint32_t c, int c_filled, uint32_t n, pits_heap *q,
 static int run(hybrid *s, pits_heap *q) {
     pits_fifo pit = {0};
     uint32_t nb[8];
+    float level = -INFINITY;
     while (q->n || !pits_fifo_empty(&pit)) {
         uint32_t c = !pits_fifo_empty(&pit) ? pits_fifo_pop(&pit) : pits_key_id(pits_heap_pop(q));
+        if (s->fill && s->st[c] == PITS_CLOSED) s->fill[c] = level = pits_maxf(level, s->orig[c]);
         int k = pg_pits_neighbours(s->t, c, nb);
         for (int j = 0; j < k; j++)
             if (s->st[nb[j]] == PITS_OPEN) visit(s, c, s->filled[c], nb[j], q, &pit);
@@ -116,10 +127,10 @@ static int slope(hybrid *s, pits_heap *q, float *w) {
     return 0;
 }
 
-pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
-                                  pg_pits_result *res, pg_error *err) {
+static pg_status hybrid_run(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                            pg_pits_result *res, float *fill, pg_error *err) {
     pits_heap q = {0};
-    hybrid s = {t, h, NULL, NULL, NULL, NULL, o->max_depth, o->max_length, 0, 0};
+    hybrid s = {t, h, NULL, NULL, NULL, NULL, fill, o->max_depth, o->max_length, 0, 0};
     uint64_t nsinks = 0;
     pg_status st = pits_begin(t, h, o, &s.st, &q, &nsinks, err);
     if (st) return st;
@@ -128,6 +139,12 @@ pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits
     s.filled = pg_huge_calloc(t->ncells, 1);
     if (orig) memcpy(orig, h, t->ncells * sizeof *orig);
     s.orig = orig;
+    if (fill) { /* the sinks keep their height; not all of them are queued */
+        const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for schedule(static)
+        for (int64_t i = 0; i < n; i++)
+            if (s.st[i] != PITS_OPEN) fill[i] = h[i];
+    }
     if (!orig || !s.parent || !s.filled || run(&s, &q) || (o->epsilon && slope(&s, &q, orig))) {
         st = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for hybrid on %llu cells",
                           (unsigned long long)t->ncells);
@@ -143,4 +160,14 @@ pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits
     free(s.parent);
     free(s.filled);
     return st;
+}
+
+pg_status pits_hybrid_lindsay2016(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                  pg_pits_result *res, pg_error *err) {
+    return hybrid_run(t, h, o, res, NULL, err);
+}
+
+pg_status pits_hybrid_lindsay2016_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
+                                       pg_pits_result *res, float *fill, pg_error *err) {
+    return hybrid_run(t, h, o, res, fill, err);
 }

@@ -257,8 +257,9 @@ pg_status pits_stats_from_fill(const pg_pits_topo *t, const float *h, const floa
     return oom ? pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for statistics") : PG_OK;
 }
 
-pg_status pits_stats_compute_pitted(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
-                                    const pg_pits_area *area, pg_pits_stats *st, pg_error *err) {
+/* The counts from h's own minimal fill. */
+static pg_status compute_from_own_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
+                                       const pg_pits_area *area, pg_pits_stats *st, pg_error *err) {
     memset(st, 0, sizeof *st);
     uint64_t nsinks = 0;
     float *fill = NULL;
@@ -274,5 +275,5 @@ pg_status pg_pits_stats_compute(const pg_pits_topo *t, const float *h, const pg_
     int none = 0;
     pg_status s = no_depression(t, h, o, &none, &st->sinks, err);
     if (s || none) return s;
-    return pits_stats_compute_pitted(t, h, o, area, st, err);
+    return compute_from_own_fill(t, h, o, area, st, err);
 }
