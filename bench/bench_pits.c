@@ -498,10 +498,13 @@ static void before_run(bctx *b, const char *bin, int argc, char **argv) {
     if (b->last) printf("before: %zu rows\n", b->before.n);
 }
 
+/* the hybrid: Lindsay's flood with no limits, as `planetgen pits --method hybrid
+ * --epsilon` runs it */
 static const run HARD_RUNS[] = {{"fill (plain)", PG_PITS_FILL, false, false},
                                 {"fill (eps)", PG_PITS_FILL, true, false},
                                 {"breach (eps, descent tree)", PG_PITS_BREACH, true, true},
-                                {"breach (eps)", PG_PITS_BREACH, true, false}};
+                                {"breach (eps)", PG_PITS_BREACH, true, false},
+                                {"hybrid (eps, Lindsay)", PG_PITS_HYBRID, true, false}};
 
 int main(int argc, char **argv) {
     int synthetic = 0, flat = 1, planet = 1, hard = 1, synth = 0;
