@@ -519,6 +519,110 @@ static void test_remove_counted(void **state) {
 }
 
 /* A W x H grid whose sinks are the cells at or below sea_level (closed edges). */
+/* Blocks of B x B cells, each its own grid, as the distributed pits lay out tiles:
+ * a border cell's neighbours are those inside its block. */
+enum { BLK = 9 };
+static int block_border(const void *ctx, uint32_t id, uint32_t out[8]) {
+    (void)ctx;
+    const uint32_t b = id / (BLK * BLK), r = id % (BLK * BLK);
+    const int x = (int)(r % BLK), y = (int)(r / BLK);
+    int k = 0;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++)
+            if ((dx || dy) && x + dx >= 0 && x + dx < BLK && y + dy >= 0 && y + dy < BLK)
+                out[k++] = b * BLK * BLK + (uint32_t)((y + dy) * BLK + x + dx);
+    return k;
+}
+
+/* Blocks as the distributed pits lay out tiles, each block its own grid. Without cells
+ * after the blocks, the removal with its counts (whose certificate walks rows) and the
+ * counts alone agree with each block counted as a grid. With such cells, whose
+ * neighbours the topology cannot give, every entry point refuses and writes nothing:
+ * the flood's seeding once asked the neighbours of those that were sinks, a read past
+ * the last cell (the heights here are exactly ncells long, for the sanitizers and
+ * valgrind). */
+static void test_blocks_counted(void **state) {
+    (void)state;
+    enum { NB = 3, NCELLS = NB * BLK * BLK, EXTRA = 3 * BLK + 4 };
+    pg_pits_topo t, g, x;
+    assert_int_equal(pg_pits_topo_blocks(&t, BLK, NB, 0, block_border, NULL, NULL), PG_OK);
+    assert_int_equal(pg_pits_topo_blocks(&x, BLK, NB, EXTRA, block_border, NULL, NULL), PG_OK);
+    pg_pits_topo_grid(&g, BLK, BLK, NULL);
+    int pitted = 0;
+    float *xd = malloc(sizeof(float) * (NCELLS + EXTRA)),
+          *xa = malloc(sizeof *xa * (NCELLS + EXTRA));
+    float *off = calloc(NCELLS + EXTRA, sizeof *off);
+    for (uint32_t seed = 700; seed < 712; seed++) {
+        float *dem = malloc(sizeof(float) * NCELLS), *a = malloc(sizeof(float) * NCELLS);
+        for (uint32_t i = 0; i < NCELLS; i++)
+            dem[i] = 1.0f + (float)(hash32(seed, i) % 40);
+        for (uint32_t b = 0; b < NB; b++) /* an outlet on each block's edge */
+            dem[b * BLK * BLK + hash32(seed, 1000 + b) % BLK] = -3.0f;
+        for (uint32_t i = 0; i < NCELLS + EXTRA; i++) /* the extra cells: sinks */
+            xd[i] = i < NCELLS ? dem[i] : -1.0f;
+        for (size_t v = 0; v < sizeof VARIANTS / sizeof *VARIANTS; v++) {
+            pg_pits_opts o;
+            pg_pits_opts_default(&o);
+            o.has_sea_level = true;
+            o.sea_level = 0;
+            o.method = VARIANTS[v].m;
+            o.epsilon = VARIANTS[v].eps;
+            o.descent = VARIANTS[v].descent;
+            pg_pits_stats before, after, ref, part;
+            memcpy(a, dem, sizeof(float) * NCELLS);
+            assert_int_equal(pg_pits_remove_counted(&t, a, &o, NULL, NULL, &before, &after, NULL),
+                             PG_OK);
+            assert_int_equal(after.depressions, 0);
+            assert_int_equal(pg_pits_stats_compute(&t, a, &o, NULL, &ref, NULL), PG_OK);
+            assert_int_equal(ref.depressions, 0);
+            assert_int_equal(pg_pits_stats_compute(&t, dem, &o, NULL, &ref, NULL), PG_OK);
+            assert_same_stats(&before, &ref);
+            uint64_t deps = 0, cells = 0;
+            double vol = 0, depth = 0;
+            for (uint32_t b = 0; b < NB; b++) {
+                assert_int_equal(
+                    pg_pits_stats_compute(&g, dem + b * BLK * BLK, &o, NULL, &part, NULL), PG_OK);
+                deps += part.depressions, cells += part.depression_cells;
+                vol += part.depression_volume_m3;
+                depth = fmax(depth, part.max_depth_m);
+            }
+            assert_int_equal(before.depressions, deps);
+            assert_int_equal(before.depression_cells, cells);
+            assert_true(fabs(before.depression_volume_m3 - vol) <= 1e-9 * (1 + vol));
+            assert_true(before.max_depth_m == depth);
+            pitted += deps > 0;
+            if (o.method == PG_PITS_FILL && !o.epsilon && deps > 0) {
+                /* the closing order certifies the fill through the blocks' rows */
+                uint32_t *order = calloc(NCELLS, sizeof *order);
+                uint8_t *sk = NULL;
+                uint64_t ns = 0;
+                memcpy(a, dem, sizeof(float) * NCELLS);
+                assert_int_equal(pits_priority_flood_barnes2014(&t, a, &o, NULL, NULL, order),
+                                 PG_OK);
+                assert_int_equal(pits_begin(&t, a, &o, &sk, NULL, &ns, NULL), PG_OK);
+                assert_true(pits_drains_by(&t, a, sk, NULL, order));
+                assert_false(pits_drains_by(&t, dem, sk, NULL, order));
+                free(sk), free(order);
+            }
+
+            memcpy(xa, xd, sizeof(float) * (NCELLS + EXTRA));
+            pg_error e = {0};
+            assert_int_equal(pg_pits_remove(&x, xa, &o, NULL, &e), PG_ERR_BADINPUT);
+            assert_non_null(strstr(e.msg, "after its blocks"));
+            assert_int_equal(pg_pits_remove_counted(&x, xa, &o, NULL, NULL, &before, &after, NULL),
+                             PG_ERR_BADINPUT);
+            assert_int_equal(pg_pits_stats_compute(&x, xa, &o, NULL, &ref, NULL), PG_ERR_BADINPUT);
+            assert_int_equal(pg_pits_correct_offsets(&x, xa, off, &o, NULL, NULL), PG_ERR_BADINPUT);
+            assert_memory_equal(xa, xd, sizeof(float) * (NCELLS + EXTRA));
+        }
+        free(dem), free(a);
+    }
+    for (uint32_t i = 0; i < NCELLS + EXTRA; i++)
+        assert_true(off[i] == 0);
+    free(xd), free(xa), free(off);
+    assert_true(pitted > 60); /* the blocks had depressions to count */
+}
+
 static void sea_grid(pg_pits_topo *t, pg_pits_opts *o, int w, int h, double sea_level) {
     pg_pits_topo_grid(t, (uint32_t)w, (uint32_t)h, NULL);
     pg_pits_opts_default(o);
@@ -926,6 +1030,7 @@ int main(void) {
         cmocka_unit_test(test_remove_counted),      cmocka_unit_test(test_fill_eps_guess),
         cmocka_unit_test(test_eps_fill_gives_fill), cmocka_unit_test(test_drain_certificate),
         cmocka_unit_test(test_stats_fill_volume),   cmocka_unit_test(test_eps_by_fill),
+        cmocka_unit_test(test_blocks_counted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

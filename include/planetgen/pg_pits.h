@@ -70,8 +70,11 @@ typedef struct pg_pits_topo {
 pg_status pg_pits_topo_grid(pg_pits_topo *t, uint32_t w, uint32_t h, pg_error *err);
 pg_status pg_pits_topo_cube(pg_pits_topo *t, uint32_t n, pg_error *err);
 /* nblocks blocks of w x w cells (ids block * w^2 + y * w + x) and `extra` more cells
- * after them that the algorithms never ask the neighbours of; border(ctx, id, out)
- * gives a border cell's neighbours (any ids below ncells). */
+ * after them whose neighbours nobody asks; border(ctx, id, out) gives a border cell's
+ * neighbours (any ids below ncells). pg_pits_remove, pg_pits_remove_counted,
+ * pg_pits_correct_offsets and pg_pits_stats_compute ask every reachable cell's
+ * neighbours and refuse extra > 0 with PG_ERR_BADINPUT; the extra cells are for
+ * callers that look only at the blocks' neighbours (the distributed pits' ring). */
 pg_status pg_pits_topo_blocks(pg_pits_topo *t, uint32_t w, uint32_t nblocks, uint32_t extra,
                               pg_pits_border_fn border, const void *ctx, pg_error *err);
 
@@ -167,7 +170,7 @@ typedef struct pg_pits_result {
 
 /* Remove every pit of h (topology t, ncells floats) in place. res may be NULL.
  * Errors: PG_ERR_BADINPUT for NaN without nodata, bad limits, lakes/topology
- * mismatch; PG_ERR_NOMEM. */
+ * mismatch, blocks with cells after them; PG_ERR_NOMEM. */
 pg_status pg_pits_remove(const pg_pits_topo *t, float *h, const pg_pits_opts *o,
                          pg_pits_result *res, pg_error *err);
 

@@ -50,7 +50,10 @@ typedef struct breach_state {
  * path to a sink, which is at least c's fill; and at most, since at the pop of the
  * cell x with that maximum, c's lowest path to a sink had a cell y in the queue (the
  * first not yet popped: the sinks pop first, key -inf), so h(x) <= h(y) <= fill(c).
- * No arithmetic, so it is exact: Barnes et al. 2014's minimal fill, bit for bit. */
+ * No arithmetic, so it is exact: Barnes et al. 2014's minimal fill, the same value at
+ * every cell and the same bits except for the sign of a zero (where a fill is zero,
+ * Priority-Flood copies its neighbour's -0 or +0, this maximum keeps the popped cell's
+ * own zero when the level reached is a zero; the counts compare values). */
 static int flood(const pg_pits_topo *t, const float *h, breach_state *b, pits_heap *q,
                  float *fill) {
     uint32_t nb[8];
