@@ -95,10 +95,8 @@ pg_status pg_plates_generate(const pg_plates_params *p, pg_plates_world *out, pg
 /* Classify plate boundaries on any plate map: a texel is on a boundary when one of its
  * 4 edge neighbours belongs to another plate; the kind comes from the relative velocity
  * of the other plate(s) with respect to this one, split into the component along the
- * outward boundary normal and the tangential one, both taken over the texels within 2.5
- * texel widths (pg_plates_boundaries.c). `omega` holds nplates angular velocities (any
- * consistent unit). `kind` receives 6*n*n values. pg_plates_generate also types by the
- * fronts its simulation saw (docs/world.md, "Boundaries that hold their kind"). */
+ * outward boundary normal and the tangential one (pg_plates_boundaries.c). `omega` holds
+ * nplates angular velocities (any consistent unit). `kind` receives 6*n*n values. */
 pg_status pg_plates_classify(int64_t n, pg_cube_projection proj, const uint8_t *plate, int nplates,
                              const double (*omega)[3], uint8_t *kind, pg_error *err);
 

@@ -101,13 +101,13 @@ static pg_status generate(const pg_plates_params *p, pg_plates_world *out, bool 
     if (st != PG_OK) return st;
     pg_plates_state s = {malloc((size_t)g.count), malloc((size_t)g.count),
                          malloc(sizeof(float) * (size_t)g.count),
-                         malloc(sizeof(float) * (size_t)g.count), calloc((size_t)g.count, 1)};
+                         malloc(sizeof(float) * (size_t)g.count)};
     out->n = p->n;
     out->proj = p->proj;
     out->radius_km = p->radius_km;
     out->nplates = p->plates;
     st = pg_plates_alloc(out, g.count, p->plates, err);
-    if (st == PG_OK && (!s.plate || !s.crust || !s.age || !s.relief || !s.front))
+    if (st == PG_OK && (!s.plate || !s.crust || !s.age || !s.relief))
         st = pg_error_set(err, PG_ERR_NOMEM, "plates: out of memory for the crust state");
     if (st == PG_OK) st = pg_plates_seed(p, &g, out, &s, err);
     if (st == PG_OK) st = pg_plates_simulate(p, &g, out, &s, caps, err);
@@ -124,7 +124,6 @@ static pg_status generate(const pg_plates_params *p, pg_plates_world *out, bool 
     free(s.crust);
     free(s.age);
     free(s.relief);
-    free(s.front);
     pg_plates_grid_free(&g);
     if (st != PG_OK) pg_plates_world_free(out);
     return st;

@@ -234,14 +234,6 @@ static void pg_plates_gather(pg_plates_sim *m, pg_plates_state *s) {
     }
 }
 
-/* The texels where the gather found crust overridden: the fronts that type a boundary
- * as convergent (pg_plates_classify_fronts). */
-static void pg_plates_mark_fronts(const pg_plates_sim *m, pg_plates_state *s) {
-    if (!s->front) return;
-    for (int64_t p = 0; p < m->g->count; p++)
-        s->front[p] |= m->ev[p] != PG_PLATES_EV_NONE;
-}
-
 /* Step 2: synchronous flood of gap texels from their labelled edge neighbours. */
 static void pg_plates_fill_gaps(pg_plates_sim *m, uint8_t *plate) {
     const pg_plates_grid *g = m->g;
@@ -512,7 +504,6 @@ pg_status pg_plates_simulate(const pg_plates_params *p, const pg_plates_grid *g,
         for (int k = 0; k < m.np; k++)
             pg_plates_advance(&m, k, dt);
         pg_plates_gather(&m, s);
-        if (step > p->steps - PG_PLATES_FRONT_STEPS) pg_plates_mark_fronts(&m, s);
         pg_plates_fill_gaps(&m, s->plate);
         st = pg_plates_uplift(&m, s, err);
         if (st != PG_OK) break;
@@ -524,7 +515,6 @@ pg_status pg_plates_simulate(const pg_plates_params *p, const pg_plates_grid *g,
     if (st == PG_OK && p->steps > 0) {
         pg_plates_protect(&m);
         pg_plates_gather(&m, s);
-        pg_plates_mark_fronts(&m, s);
         pg_plates_fill_gaps(&m, s->plate);
     }
 done:

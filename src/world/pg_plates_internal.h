@@ -104,17 +104,7 @@ typedef struct pg_plates_state {
     uint8_t *crust; /* world crust type */
     float *age;     /* world crust age, Myr */
     float *relief;  /* world tectonic relief, m (uplift accumulated by the simulation) */
-    uint8_t *front; /* world texel -> 1 where crust was overridden (subduction or collision)
-                       in the last PG_PLATES_FRONT_STEPS steps or the final gather */
 } pg_plates_state;
-
-#define PG_PLATES_FRONT_STEPS 4
-
-/* pg_plates_classify, and a boundary texel with a front (non-NULL, 6 n^2 flags) within
- * its normal's disc is convergent whatever the final motion says (pg_plates_boundaries.c). */
-pg_status pg_plates_classify_fronts(int64_t n, pg_cube_projection proj, const uint8_t *plate,
-                                    int nplates, const double (*omega)[3], const uint8_t *front,
-                                    uint8_t *kind, pg_error *err);
 
 pg_status pg_plates_seed(const pg_plates_params *p, const pg_plates_grid *g, pg_plates_world *w,
                          pg_plates_state *s, pg_error *err);

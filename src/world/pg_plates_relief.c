@@ -155,8 +155,8 @@ pg_status pg_plates_relief(const pg_plates_params *p, const pg_plates_grid *g, p
     memcpy(w->age_myr, s->age, sizeof(float) * c);
     for (int k = 0; k < p->plates; k++)
         memcpy(omega[k], w->plates[k].omega, sizeof omega[k]);
-    st = pg_plates_classify_fronts(g->n, g->proj, w->plate, p->plates, (const double(*)[3])omega,
-                                   s->front, w->boundary, err);
+    st = pg_plates_classify(g->n, g->proj, w->plate, p->plates, (const double(*)[3])omega,
+                            w->boundary, err);
     /* three independent floods (serial each), at once: from the convergent and the
      * divergent boundaries and from the ocean */
     for (int64_t t = 0; t < g->count; t++) {
