@@ -65,6 +65,7 @@ typedef struct pg_pits_topo {
     pg_cube_grid cube;        /* cube only: the seam map of pg_cube.h (T = N, S = 1) */
     pg_pits_border_fn border; /* blocks only: the neighbours of a block's border cell */
     const void *border_ctx;
+    uint32_t extra; /* blocks only: the cells after the blocks */
 } pg_pits_topo;
 
 pg_status pg_pits_topo_grid(pg_pits_topo *t, uint32_t w, uint32_t h, pg_error *err);

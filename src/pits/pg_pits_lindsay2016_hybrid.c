@@ -34,7 +34,8 @@
  * keys are input heights, and the FIFO and the channels only ever queue cells at or
  * below the level already reached, which pop before any higher key; so, as in
  * Priority-Flood, a cell still open when the level reaches L has no path to a sink
- * below L, and a cell reached from c is at most c's fill or its own height. */
+ * below L, and a cell reached from c is at most c's fill or its own height. Same
+ * values; the same bits but for the sign of a zero, as there. */
 #include "pg_huge.h"
 #include "pg_pits_internal.h"
 

@@ -93,11 +93,11 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
         return pg_error_set(err, PG_ERR_BADINPUT, "pits: missing topology or options");
     /* Cells after the blocks have no neighbours the topology could give: the flood, its
      * seeding and the counts ask every reachable cell's (pg_pits.h, pg_pits_topo_blocks) */
-    if (t->kind == PG_PITS_BLOCKS && t->ncells != (uint64_t)t->w * t->w * t->nfaces)
+    if (t->kind == PG_PITS_BLOCKS && t->extra)
         return pg_error_set(err, PG_ERR_BADINPUT,
-                            "pits: a blocks topology with %llu cells after its blocks has no "
+                            "pits: a blocks topology with %u cells after its blocks has no "
                             "neighbours for them; removal and counts need every cell's",
-                            (unsigned long long)(t->ncells - (uint64_t)t->w * t->w * t->nfaces));
+                            t->extra);
     if (o->method < PG_PITS_FILL || o->method > PG_PITS_HYBRID)
         return pg_error_set(err, PG_ERR_BADINPUT, "pits: unknown method %d", (int)o->method);
     if (!(o->max_depth >= 0))

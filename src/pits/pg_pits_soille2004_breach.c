@@ -51,9 +51,11 @@ typedef struct breach_state {
  * cell x with that maximum, c's lowest path to a sink had a cell y in the queue (the
  * first not yet popped: the sinks pop first, key -inf), so h(x) <= h(y) <= fill(c).
  * No arithmetic, so it is exact: Barnes et al. 2014's minimal fill, the same value at
- * every cell and the same bits except for the sign of a zero (where a fill is zero,
- * Priority-Flood copies its neighbour's -0 or +0, this maximum keeps the popped cell's
- * own zero when the level reached is a zero; the counts compare values). */
+ * every cell and the same bits except for the sign of a zero. Where a fill is zero,
+ * Priority-Flood keeps an unraised cell's own zero and gives a raised cell the zero of
+ * the neighbour that closed it; this maximum (ties give the popped height) keeps a
+ * cell's own zero too, but gives a raised cell the zero of the last zero-height cell
+ * popped, anywhere in the flood. The counts compare values, so they agree. */
 static int flood(const pg_pits_topo *t, const float *h, breach_state *b, pits_heap *q,
                  float *fill) {
     uint32_t nb[8];

@@ -48,7 +48,8 @@ pg_status pg_pits_topo_blocks(pg_pits_topo *t, uint32_t w, uint32_t nblocks, uin
                         .inv_w = 1.0 / w,
                         .inv_face = 1.0 / ((double)w * w),
                         .border = border,
-                        .border_ctx = ctx};
+                        .border_ctx = ctx,
+                        .extra = extra};
     return PG_OK;
 }
 
