@@ -299,6 +299,9 @@ int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st
 int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w);
 /* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
 void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
+/* fill = h at every cell that is not OPEN: the minimal fill there, for the floods that
+ * record the rest as they pop (not every sink is queued, so not every sink pops). */
+void pits_fill_sinks(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill);
 
 /* ---- the descent tree's tokens (pg_pits_descent_breach.c) ---- */
 

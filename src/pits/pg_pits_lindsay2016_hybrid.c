@@ -140,12 +140,7 @@ static pg_status hybrid_run(const pg_pits_topo *t, float *h, const pg_pits_opts 
     s.filled = pg_huge_calloc(t->ncells, 1);
     if (orig) memcpy(orig, h, t->ncells * sizeof *orig);
     s.orig = orig;
-    if (fill) { /* the sinks keep their height; not all of them are queued */
-        const int64_t n = (int64_t)t->ncells;
-#pragma omp parallel for schedule(static)
-        for (int64_t i = 0; i < n; i++)
-            if (s.st[i] != PITS_OPEN) fill[i] = h[i];
-    }
+    if (fill) pits_fill_sinks(t, h, s.st, fill);
     if (!orig || !s.parent || !s.filled || run(&s, &q) || (o->epsilon && slope(&s, &q, orig))) {
         st = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for hybrid on %llu cells",
                           (unsigned long long)t->ncells);

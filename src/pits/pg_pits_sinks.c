@@ -194,6 +194,13 @@ void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q) {
     pits_heap_heapify(q);
 }
 
+void pits_fill_sinks(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill) {
+    const int64_t n = (int64_t)t->ncells;
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; i++)
+        if (st[i] != PITS_OPEN) fill[i] = h[i];
+}
+
 pg_status pits_begin(const pg_pits_topo *t, float *h, const pg_pits_opts *o, uint8_t **state,
                      pits_heap *q, uint64_t *nsinks, pg_error *err) {
     pg_status s = pits_validate(t, o, err);

@@ -103,12 +103,7 @@ static pg_status breach(const pg_pits_topo *t, float *h, const pg_pits_opts *o, 
     if (s) return s;
     b.children = pg_huge_calloc(t->ncells, 1);
     b.order = pg_huge_malloc(t->ncells * sizeof *b.order);
-    if (fill) { /* the sinks keep their height; not all of them are queued */
-        const int64_t n = (int64_t)t->ncells;
-#pragma omp parallel for schedule(static)
-        for (int64_t i = 0; i < n; i++)
-            if (b.st[i] != PITS_OPEN) fill[i] = h[i];
-    }
+    if (fill) pits_fill_sinks(t, h, b.st, fill);
     if (!b.children || !b.order || flood(t, h, &b, &q, fill)) {
         s = pg_error_set(err, PG_ERR_NOMEM, "pits: out of memory for breaching %llu cells",
                          (unsigned long long)t->ncells);
