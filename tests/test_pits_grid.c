@@ -1021,6 +1021,45 @@ static void test_drain_certificate(void **state) {
 }
 
 /* No-data cells: refused without a stated value; with one, left alone as outlets. */
+/* The radix heap under a flood that merges it with a FIFO (the minimal epsilon-surface):
+ * asking for the smallest key must not raise the heap's floor, since the flood may then
+ * take a smaller value from its FIFO and push keys between the last key popped and the
+ * heap's smallest. Random pushes (never below the last key popped), peeks and pops
+ * against a sorted reference: every peek and pop gives the true smallest key. */
+static int cmp_u32(const void *a, const void *b) {
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void test_rheap_order(void **state) {
+    (void)state;
+    for (uint32_t seed = 0; seed < 40; seed++) {
+        pits_rheap r = {0};
+        uint32_t ref[4096], n = 0, floor_ = 0, peeks = 0, below = 0;
+        for (uint32_t op = 0; op < 4000; op++) {
+            uint32_t kind = hash32(seed, 3 * op) % 8, span = 1u << (hash32(seed, 3 * op + 1) % 24);
+            if (kind < 4 && n < 4096) { /* push, at least the last key popped */
+                uint32_t key = floor_ + hash32(seed, 3 * op + 2) % span;
+                below += n && key < ref[0];
+                pits_rheap_push(&r, key, op);
+                ref[n++] = key;
+                qsort(ref, n, sizeof *ref, cmp_u32);
+            } else if (kind < 6 && n) {
+                assert_int_equal(pits_rheap_top_key(&r), ref[0]);
+                peeks++;
+            } else if (n) {
+                uint64_t e = pits_rheap_pop(&r);
+                assert_int_equal((uint32_t)(e >> 32), ref[0]);
+                floor_ = ref[0];
+                memmove(ref, ref + 1, --n * sizeof *ref);
+            }
+            assert_int_equal(r.size, n);
+        }
+        assert_true(peeks > 0 && below > 0); /* the case that matters happened */
+        pits_rheap_free(&r);
+    }
+}
+
 static void test_bad_input_and_nodata(void **state) {
     (void)state;
     float dem[25];
@@ -1065,7 +1104,7 @@ int main(void) {
         cmocka_unit_test(test_remove_counted),      cmocka_unit_test(test_fill_eps_guess),
         cmocka_unit_test(test_eps_fill_gives_fill), cmocka_unit_test(test_drain_certificate),
         cmocka_unit_test(test_stats_fill_volume),   cmocka_unit_test(test_eps_by_fill),
-        cmocka_unit_test(test_blocks_counted),
+        cmocka_unit_test(test_blocks_counted),      cmocka_unit_test(test_rheap_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -151,6 +151,8 @@ typedef struct pits_rheap {
     size_t n[33], cap[33];
     size_t size;
     uint32_t last;
+    uint32_t peek; /* with peek_ok: the smallest key, while bucket 0 is empty */
+    int peek_ok;
     int oom;
 } pits_rheap;
 
@@ -172,6 +174,7 @@ static inline void pits_rheap_push(pits_rheap *r, uint32_t key, uint32_t id) {
     }
     r->b[i][r->n[i]++] = (uint64_t)key << 32 | id;
     r->size++;
+    if (r->peek_ok && key < r->peek) r->peek = key;
 }
 
 /* Refill bucket 0 from the first non-empty bucket (r->size > 0). */
@@ -185,6 +188,7 @@ static inline void pits_rheap_refill(pits_rheap *r) {
     for (size_t k = 1; k < n; k++)
         if (e[k] < m) m = e[k];
     r->last = (uint32_t)(m >> 32);
+    r->peek_ok = 0;
     r->n[i] = 0;
     for (size_t k = 0; k < n; k++) { /* every entry goes to a bucket below i */
         int j = pits_rheap_bucket((uint32_t)(e[k] >> 32), r->last);
@@ -197,10 +201,25 @@ static inline void pits_rheap_refill(pits_rheap *r) {
     if (r->cap[i] > 4096) pits_rheap_release(r, i); /* its entries now live below */
 }
 
-/* The smallest key (ordered bits) without removing it; the heap is not empty. */
+/* The smallest key (ordered bits) without removing it; the heap is not empty. It
+ * leaves `last` alone: a flood that merges the heap with a FIFO of its own (the
+ * minimal epsilon-surface) may take a smaller value from the FIFO next and push keys
+ * below the heap's smallest, which must still be >= last. So an empty bucket 0 is
+ * not refilled here; the first non-empty bucket's smallest key is found by a scan and
+ * kept (pushes lower it) until the next pop. */
 static inline uint32_t pits_rheap_top_key(pits_rheap *r) {
-    if (!r->n[0]) pits_rheap_refill(r);
-    return r->last; /* after an oom in the refill, the caller's oom check stops it */
+    if (r->n[0]) return r->last;
+    if (!r->peek_ok) {
+        int i = 1;
+        while (!r->n[i])
+            i++;
+        uint64_t m = r->b[i][0];
+        for (size_t k = 1; k < r->n[i]; k++)
+            if (r->b[i][k] < m) m = r->b[i][k];
+        r->peek = (uint32_t)(m >> 32);
+        r->peek_ok = 1;
+    }
+    return r->peek;
 }
 
 /* Removes one entry with the smallest key: returns (key << 32 | id). */
@@ -208,6 +227,7 @@ static inline uint64_t pits_rheap_pop(pits_rheap *r) {
     if (!r->n[0]) pits_rheap_refill(r);
     if (r->oom) return 0;
     r->size--;
+    r->peek_ok = 0; /* a push into bucket 0 may have made the popped key the peek */
     return r->b[0][--r->n[0]];
 }
 
