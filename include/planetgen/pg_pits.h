@@ -95,10 +95,11 @@ static inline uint32_t pg_pits__div(uint32_t n, uint32_t d, double inv_d) {
     return q;
 }
 
-static inline int pg_pits_neighbours(const pg_pits_topo *t, uint32_t id, uint32_t out[8]) {
-    uint32_t w = t->w, in_face = id;
-    if (t->nfaces > 1) in_face = id - pg_pits__div(id, w * t->h, t->inv_face) * (w * t->h);
-    uint32_t y = pg_pits__div(in_face, w, t->inv_w), x = in_face - y * w;
+/* The same for a cell whose place on its face (x, y) the caller knows, as a loop over
+ * the rows does: no division. */
+static inline int pg_pits_neighbours_xy(const pg_pits_topo *t, uint32_t id, uint32_t x, uint32_t y,
+                                        uint32_t out[8]) {
+    const uint32_t w = t->w;
     if (x - 1u < w - 2u && y - 1u < t->h - 2u) {
         out[0] = id - w - 1;
         out[1] = id - w;
@@ -111,6 +112,13 @@ static inline int pg_pits_neighbours(const pg_pits_topo *t, uint32_t id, uint32_
         return 8;
     }
     return pg_pits_neighbours_slow(t, id, out);
+}
+
+static inline int pg_pits_neighbours(const pg_pits_topo *t, uint32_t id, uint32_t out[8]) {
+    uint32_t w = t->w, in_face = id;
+    if (t->nfaces > 1) in_face = id - pg_pits__div(id, w * t->h, t->inv_face) * (w * t->h);
+    uint32_t y = pg_pits__div(in_face, w, t->inv_w), x = in_face - y * w;
+    return pg_pits_neighbours_xy(t, id, x, y, out);
 }
 
 /* ---- removal ------------------------------------------------------------------- */

@@ -95,7 +95,7 @@ static int eps_round(const pg_mpi_pits_grid *d, eps_ctx *e, const float *floor_)
         d->h[id] = w;
         if (w < INFINITY) pits_heap_push(&q, pits_key(w, id));
     }
-    pits_meps m = {&d->g->t, d->h, floor_, eps_settable, e, 0, NULL};
+    pits_meps m = {&d->g->t, d->h, floor_, eps_settable, e, 0, NULL, NULL};
     oom = oom || q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom ? -1 : 0;
@@ -121,7 +121,7 @@ static int eps_update(const pg_mpi_pits_grid *d, eps_ctx *e, const float *floor_
             pits_heap_push(&q, pits_key(w, id));
         }
     }
-    pits_meps m = {&d->g->t, d->h, floor_, eps_settable, e, 0, NULL};
+    pits_meps m = {&d->g->t, d->h, floor_, eps_settable, e, 0, NULL, NULL};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom ? -1 : 0;

@@ -62,23 +62,42 @@ typedef struct descent {
     const double *sea_level; /* NULL without a sea level */
 } descent;
 
-/* slot[] holds the parent's index among the cell's neighbours, and PIT for a cell that
- * starts a token (build_tree). */
-enum { PIT = 0x80 };
+/* slot[] holds the parent's index among the cell's neighbours, INNER when the cell is
+ * inside its face (the parent is then at a fixed offset: no division to find it), and
+ * PIT for a cell that starts a token (build_tree). */
+enum { INNER = 0x40, PIT = 0x80 };
 
 static uint32_t parent_of(const descent *d, uint32_t x) {
+    const uint8_t s = d->slot[x];
+    if (s & INNER) return (uint32_t)((int64_t)x + pits_inner_offset(d->t, s & 7));
     uint32_t nb[8];
-    pg_pits_neighbours(d->t, x, nb);
-    return nb[d->slot[x] & (PIT - 1)];
+    pg_pits_neighbours_slow(d->t, x, nb);
+    return nb[s & 7];
 }
 
-/* For a non-sink cell i, with v holding W: P(i), the neighbour with the smallest (W, id)
- * (sinks count as -inf), into d->slot, with PIT when i starts a token: it has no
- * strictly lower neighbour nor a sink neighbour, and without epsilon the minimal fill
- * (d->fill) raises it (drained flats need nothing). Returns P(i). */
-static uint32_t pick_parent(descent *d, uint32_t i) {
+/* For a non-sink cell i at (x, y) on its face, with v holding W: P(i), the neighbour
+ * with the smallest (W, id) (sinks count as -inf), into d->slot, with PIT when i starts
+ * a token: it has no strictly lower neighbour nor a sink neighbour, and without epsilon
+ * the minimal fill (d->fill) raises it (drained flats need nothing). Returns P(i). */
+static uint32_t pick_parent(descent *d, uint32_t i, uint32_t x, uint32_t y) {
+    if (pits_inner(d->t, x, y)) { /* neighbours in id order: the first smallest W wins */
+        const float hi = d->h[i];
+        uint32_t best = UINT32_MAX;
+        int best_j = 0, lower = 0;
+        for (int j = 0; j < 8; j++) {
+            const uint32_t n = (uint32_t)((int64_t)i + pits_inner_offset(d->t, j));
+            const int closed = d->st[n] == PITS_CLOSED;
+            const uint32_t o = closed ? pits_ord(d->v[n]) : pits_ord(-INFINITY);
+            best_j = o < best ? j : best_j;
+            best = o < best ? o : best;
+            lower |= !closed | (d->h[n] < hi);
+        }
+        int pit = !lower && (!d->fill || d->fill[i] > hi);
+        d->slot[i] = (uint8_t)(best_j | (pit ? PIT : 0) | INNER);
+        return (uint32_t)((int64_t)i + pits_inner_offset(d->t, best_j));
+    }
     uint32_t nb[8];
-    int k = pg_pits_neighbours(d->t, i, nb), best_j = 0, lower = 0;
+    int k = pg_pits_neighbours_xy(d->t, i, x, y, nb), best_j = 0, lower = 0;
     uint64_t best = UINT64_MAX;
     const float hi = d->h[i];
     for (int j = 0; j < k; j++) {
@@ -94,22 +113,28 @@ static uint32_t pick_parent(descent *d, uint32_t i) {
 
 /* P(c) and the children counts (v holds W); then v becomes the tokens: pits get their
  * own, the other cells none (+inf). W is not needed after the tree. Each cell's parent
- * and token depend on the heights alone, so the loops run in parallel; the counts are
- * sums (at most 8 per cell), the same in any order. */
+ * and token depend on the heights alone, so the loops run in parallel, a row at a time
+ * (the row gives each cell's place on its face); the counts are sums (at most 8 per
+ * cell), the same in any order. */
 static void build_tree(descent *d) {
-    const int64_t n = (int64_t)d->t->ncells;
-    if (omp_get_max_threads() > 1) {
-#pragma omp parallel for schedule(static)
-        for (int64_t i = 0; i < n; i++) {
-            if (d->st[i] != PITS_CLOSED) continue;
-            uint32_t p = pick_parent(d, (uint32_t)i);
+    const pg_pits_topo *t = d->t;
+    const int64_t rows = t->w ? (int64_t)(t->ncells / t->w) : 0;
+    const int par = omp_get_max_threads() > 1; /* else without the atomics' cost */
+#pragma omp parallel for schedule(static) if (par)
+    for (int64_t row = 0; row < rows; row++) {
+        const uint32_t y = (uint32_t)(row % t->h), id0 = (uint32_t)row * t->w;
+        for (uint32_t x = 0; x < t->w; x++) {
+            if (d->st[id0 + x] != PITS_CLOSED) continue;
+            uint32_t p = pick_parent(d, id0 + x, x, y);
+            if (par) {
 #pragma omp atomic update
-            d->pending[p]++;
+                d->pending[p]++;
+            } else {
+                d->pending[p]++;
+            }
         }
-    } else { /* the same without the atomics' cost */
-        for (int64_t i = 0; i < n; i++)
-            if (d->st[i] == PITS_CLOSED) d->pending[pick_parent(d, (uint32_t)i)]++;
     }
+    const int64_t n = (int64_t)t->ncells;
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n; i++)
         d->v[i] = d->st[i] == PITS_CLOSED && (d->slot[i] & PIT) ? d->h[i] : INFINITY;

@@ -17,6 +17,22 @@
 #include <string.h>
 
 enum { PITS_OPEN = 0, PITS_CLOSED = 1, PITS_SINK = 2, PITS_NODATA = 3 };
+/* Only inside the minimal epsilon-surface's flood (pg_pits_planchon2002_minimal_eps.c),
+ * which turns them into PITS_CLOSED before it returns: a source not yet reached by the
+ * flood, and a cell the flood has settled. */
+enum { PITS_SOURCE = 4, PITS_DONE = 5 };
+
+/* Whether a cell is inside its face (not on a face or grid border): its neighbours are
+ * then id + pits_inner_offset(t, j), j in pg_pits_neighbours' order. */
+static inline int pits_inner(const pg_pits_topo *t, uint32_t x, uint32_t y) {
+    return x - 1u < t->w - 2u && y - 1u < t->h - 2u;
+}
+
+static inline int64_t pits_inner_offset(const pg_pits_topo *t, int j) {
+    const int64_t w = t->w;
+    const int64_t off[8] = {-w - 1, -w, -w + 1, -1, 1, w - 1, w, w + 1};
+    return off[j];
+}
 
 static inline uint32_t pits_ord(float f) {
     uint32_t u;
@@ -280,8 +296,9 @@ pg_status pits_validate(const pg_pits_topo *t, const pg_pits_opts *o, pg_error *
  * w: the sources' values (read through their keys) and, for every cell the flood may
  * set, a start value (+inf, or an upper bound); out: W on those cells. settable(ctx,
  * id) says whether the flood may set a cell (not a sink, inside the region); NULL:
- * ctx is the state array, the PITS_OPEN cells are settable, and every other cell must
- * have w == floor (flood_rest sets them so). q holds
+ * st is the state array, in which the cells to set are PITS_OPEN (w = +inf) or
+ * PITS_SOURCE (the sources, w their value) and the others are never read for w; the
+ * flood leaves its cells PITS_CLOSED or PITS_DONE. q holds
  * the sources' keys (height -inf for sinks), in any order (q->a is read, then freed:
  * q is empty on return). Returns nonzero when out of memory. */
 typedef struct pits_meps {
@@ -292,6 +309,7 @@ typedef struct pits_meps {
     const void *ctx;
     int plain;   /* up(w) = w: the minimal (plain) fill instead */
     float *fill; /* NULL, or each set cell's max(floor, fill of the cell that set it) */
+    uint8_t *st; /* without settable: the cells' states, PITS_OPEN for those to set */
 } pits_meps;
 
 int pits_meps_flood(pits_meps *m, pits_heap *q);

@@ -43,16 +43,34 @@
  * up(w), so its cells' values are final. Merging it with the heap by height keeps the
  * Dijkstra order; the heap is a monotone radix heap (pg_pits_internal.h), since the
  * result is unique and so does not depend on the order of equal heights.
- * A neighbour is looked at only when its value exceeds up (else nothing can lower
- * it), which skips the settled cells with one load. With the state array (by_state),
- * the cells that may not be set need no test of their own: flood_rest gives them
- * w = floor, and max(floor, up) < floor never holds. */
+ * With the state array (by_state, one process): the settled values never decrease, so
+ * neither does any cell's offer max(floor, up), and a cell's first offer is its final
+ * value unless it was a source with a lower one. So a cell is closed when first
+ * reached, as in Barnes's fill, and later neighbours skip it on a one-byte load of its
+ * state instead of a four-byte load of its value (the flats of an integer DEM are
+ * most of its cells; their BFS front's reads are what the flood waits on). Without it
+ * (the distributed flood's settable cells, whose sources come back round the ring), a
+ * neighbour is looked at only when its value exceeds up (else nothing can lower it). */
+/* How far ahead in the FIFO, or in the heap's bucket of the current height, the rows
+ * of a cell to be settled are fetched: the reads of its neighbours' states, floors and
+ * values are what the flood waits on (docs/pits.md, "Hard DEM"). */
+enum { AHEAD = 32 };
+
+static inline void fetch_rows(const pits_meps *m, const uint8_t *st, const float *w, uint32_t f) {
+    const uint32_t tw = m->t->w;
+    const uint32_t a = f >= tw ? f - tw : f, b = f + tw < m->t->ncells ? f + tw : f;
+    __builtin_prefetch(&st[a]), __builtin_prefetch(&st[f]), __builtin_prefetch(&st[b]);
+    __builtin_prefetch(&m->floor[a]), __builtin_prefetch(&m->floor[b]);
+    __builtin_prefetch(&w[a]), __builtin_prefetch(&w[b]);
+}
+
 static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state, float *fill) {
     pits_fifo fifo = {0};
     pits_rheap r = {0};
     uint32_t nb[8];
     float *w = m->w;
     const float *floor_ = m->floor;
+    uint8_t *st = m->st;
     for (size_t i = 0; i < q->n && !r.oom; i++)
         pits_rheap_push(&r, (uint32_t)(q->a[i] >> 32), pits_key_id(q->a[i]));
     int seed_oom = q->oom;
@@ -64,33 +82,46 @@ static inline int meps_flood(pits_meps *m, pits_heap *q, const int by_state, flo
             (!r.size || pits_ord(w[fifo.a[fifo.head]]) <= pits_rheap_top_key(&r))) {
             c = pits_fifo_pop(&fifo);
             kord = pits_ord(w[c]);
+            if (by_state && fifo.head + AHEAD < fifo.tail)
+                fetch_rows(m, st, w, fifo.a[fifo.head + AHEAD]);
         } else {
             uint64_t e = pits_rheap_pop(&r);
             if (r.oom) break;
+            if (by_state && r.n[0] > AHEAD) /* bucket 0 pops from its end */
+                fetch_rows(m, st, w, pits_key_id(r.b[0][r.n[0] - AHEAD]));
             c = pits_key_id(e);
             kord = (uint32_t)(e >> 32);
-            /* (with the state array only settable cells are ever queued) */
-            if ((by_state || m->settable(m->ctx, c)) && kord != pits_ord(w[c]))
+            if (by_state ? st[c] == PITS_DONE /* a source's first value, since lowered */
+                         : m->settable(m->ctx, c) && kord != pits_ord(w[c]))
                 continue; /* superseded by a lower value */
         }
+        if (by_state) st[c] = PITS_DONE;
         float hk = pits_key_height((uint64_t)kord << 32);
         float up = m->plain ? hk : pits_up(hk); /* -inf: -FLT_MAX */
         float fc = fill ? fill[c] : 0;
         int k = pg_pits_neighbours(m->t, c, nb);
         for (int j = 0; j < k; j++) {
-            uint32_t n = nb[j];
-            float wn = w[n];
-            if (!(wn > up)) continue; /* max(floor, up) >= up >= w[n]: no gain */
-            if (!by_state && !m->settable(m->ctx, n)) continue;
-            float cand = pits_maxf(floor_[n], up);
-            if (cand < wn) {
-                w[n] = cand;
-                if (fill) fill[n] = pits_maxf(floor_[n], fc);
-                if (cand == up)
-                    pits_fifo_push(&fifo, n);
-                else
-                    pits_rheap_push(&r, pits_ord(cand), n);
+            const uint32_t n = nb[j];
+            float cand;
+            if (by_state) {
+                const uint8_t sn = st[n];
+                if (sn != PITS_OPEN && sn != PITS_SOURCE) continue; /* set, or never to be */
+                st[n] = PITS_CLOSED;                                /* this offer is final... */
+                cand = pits_maxf(floor_[n], up);
+                if (sn == PITS_SOURCE && !(cand < w[n])) continue; /* ...unless its own is lower */
+            } else {
+                const float wn = w[n];
+                if (!(wn > up)) continue; /* max(floor, up) >= up >= w[n]: no gain */
+                if (!m->settable(m->ctx, n)) continue;
+                cand = pits_maxf(floor_[n], up);
+                if (!(cand < wn)) continue;
             }
+            w[n] = cand;
+            if (fill) fill[n] = pits_maxf(floor_[n], fc);
+            if (cand == up)
+                pits_fifo_push(&fifo, n);
+            else
+                pits_rheap_push(&r, pits_ord(cand), n);
         }
     }
     int oom = r.oom || fifo.oom;
@@ -128,28 +159,33 @@ static int close_drained(const pg_pits_topo *t, const float *h, uint8_t *st, con
 }
 
 /* Step 2: the flood over the rest (flats and depressions), seeded from its border. */
-static int flood_rest(const pg_pits_topo *t, const float *h, const uint8_t *st, float *w, int eps,
+static int flood_rest(const pg_pits_topo *t, const float *h, uint8_t *st, float *w, int eps,
                       float *fill) {
     pits_heap q = {0};
     uint32_t nb[8];
-    for (uint64_t i = 0; i < t->ncells; i++) {
-        w[i] = h[i];
-        if (fill) fill[i] = h[i]; /* drained cells and sinks: their own height */
-        if (st[i] != PITS_OPEN) continue;
-        w[i] = INFINITY;
-        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
-        for (int j = 0; j < k; j++)
-            if (st[nb[j]] != PITS_OPEN) {
-                float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
-                float cand = pits_maxf(h[i], eps ? pits_up(v) : v);
-                if (cand < w[i] && fill) fill[i] = pits_maxf(h[i], v);
-                w[i] = pits_minf(w[i], cand);
-            }
-        /* pits_meps_flood takes its sources in any order: no heap order needed */
-        if (w[i] < INFINITY && (q.n < q.cap || (pits_heap_grow(&q), !q.oom)))
-            q.a[q.n++] = pits_key(w[i], (uint32_t)i);
-    }
-    pits_meps m = {t, w, h, NULL, st, !eps, fill};
+    const uint64_t rows = t->w ? t->ncells / t->w : 0; /* a row at a time: no division */
+    for (uint64_t row = 0; row < rows; row++)
+        for (uint32_t x = 0, y = (uint32_t)(row % t->h); x < t->w; x++) {
+            const uint32_t i = (uint32_t)(row * t->w) + x;
+            w[i] = h[i];
+            if (fill) fill[i] = h[i]; /* drained cells and sinks: their own height */
+            if (st[i] != PITS_OPEN) continue;
+            w[i] = INFINITY;
+            int k = pg_pits_neighbours_xy(t, i, x, y, nb);
+            for (int j = 0; j < k; j++)
+                if (st[nb[j]] != PITS_OPEN) {
+                    float v = st[nb[j]] == PITS_CLOSED ? h[nb[j]] : -INFINITY;
+                    float cand = pits_maxf(h[i], eps ? pits_up(v) : v);
+                    if (cand < w[i] && fill) fill[i] = pits_maxf(h[i], v);
+                    w[i] = pits_minf(w[i], cand);
+                }
+            /* pits_meps_flood takes its sources in any order: no heap order needed */
+            if (w[i] < INFINITY && (q.n < q.cap || (pits_heap_grow(&q), !q.oom)))
+                q.a[q.n++] = pits_key(w[i], i);
+        }
+    for (size_t i = 0; i < q.n; i++) /* after the loop, which asks which cells are open */
+        st[pits_key_id(q.a[i])] = PITS_SOURCE;
+    pits_meps m = {t, w, h, NULL, NULL, !eps, fill, st};
     int oom = q.oom || pits_meps_flood(&m, &q);
     pits_heap_free(&q);
     return oom;
@@ -214,7 +250,7 @@ static int meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opt
     const int64_t n = (int64_t)t->ncells;
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n; i++)
-        if (st[i] == PITS_OPEN) st[i] = PITS_CLOSED;
+        if (st[i] == PITS_OPEN || st[i] >= PITS_SOURCE) st[i] = PITS_CLOSED;
     return 0;
 }
 
