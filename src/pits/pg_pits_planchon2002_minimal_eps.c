@@ -216,12 +216,15 @@ static int by_fill(const pg_pits_topo *t, const float *h, const pg_pits_opts *o,
 }
 
 /* Whether W is worth computing by way of the fill (by_fill) rather than by the flood:
- * on several threads where the plain fill would run in tiles, when more than half of
- * the cells are left for the flood after the drained ones are closed (a DEM of integer
- * heights, whose flats and depressions are most of it; on a planet the ocean is sinks
- * and most land drains, and the flood is the quicker). */
+ * on three threads or more where the plain fill would run in tiles, when more than half
+ * of the cells are left for the flood after the drained ones are closed (a DEM of
+ * integer heights, whose flats and depressions are most of it; on a planet the ocean is
+ * sinks and most land drains, and the flood is the quicker). On two threads the serial
+ * flood, closing cells on first reach, is as fast as the tiled fill and the search over
+ * its flats on two (the hard DEM, docs/pits.md); with more threads those scale and the
+ * flood does not, which this machine of two cores cannot measure. */
 static int fill_pays(const pg_pits_topo *t, const pg_pits_opts *o, const uint8_t *st) {
-    if (!o || o->has_nodata || omp_get_max_threads() < 2 || !pits_tiled_fill(t, o)) return 0;
+    if (!o || o->has_nodata || omp_get_max_threads() < 3 || !pits_tiled_fill(t, o)) return 0;
     const int64_t n = (int64_t)t->ncells;
     int64_t open = 0;
 #pragma omp parallel for reduction(+ : open) schedule(static)
