@@ -1021,7 +1021,6 @@ static void test_drain_certificate(void **state) {
     assert_true(plain_ok == plain); /* the plain fill's count needs no search here */
 }
 
-/* No-data cells: refused without a stated value; with one, left alone as outlets. */
 /* The radix heap under a flood that merges it with a FIFO (the minimal epsilon-surface):
  * asking for the smallest key must not raise the heap's floor, since the flood may then
  * take a smaller value from its FIFO and push keys between the last key popped and the
@@ -1061,6 +1060,7 @@ static void test_rheap_order(void **state) {
     }
 }
 
+/* No-data cells: refused without a stated value; with one, left alone as outlets. */
 static void test_bad_input_and_nodata(void **state) {
     (void)state;
     float dem[25];

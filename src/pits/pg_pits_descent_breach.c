@@ -118,7 +118,7 @@ static uint32_t pick_parent(descent *d, uint32_t i, uint32_t x, uint32_t y) {
  * cell), the same in any order. */
 static void build_tree(descent *d) {
     const pg_pits_topo *t = d->t;
-    const int64_t rows = t->w ? (int64_t)(t->ncells / t->w) : 0;
+    const int64_t rows = (int64_t)pits_rows(t);
     const int par = omp_get_max_threads() > 1; /* else without the atomics' cost */
 #pragma omp parallel for schedule(static) if (par)
     for (int64_t row = 0; row < rows; row++) {

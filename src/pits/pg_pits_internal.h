@@ -22,6 +22,13 @@ enum { PITS_OPEN = 0, PITS_CLOSED = 1, PITS_SINK = 2, PITS_NODATA = 3 };
  * flood, and a cell the flood has settled. */
 enum { PITS_SOURCE = 4, PITS_DONE = 5 };
 
+/* The rows of w cells that make up the topology's cells, for loops that walk them a row
+ * at a time (each row's cells know their place on the face without a division). Every
+ * cell is in one: blocks with cells after them are refused (pits_validate). */
+static inline uint64_t pits_rows(const pg_pits_topo *t) {
+    return t->w ? t->ncells / t->w : 0;
+}
+
 /* Whether a cell is inside its face (not on a face or grid border): its neighbours are
  * then id + pits_inner_offset(t, j), j in pg_pits_neighbours' order. */
 static inline int pits_inner(const pg_pits_topo *t, uint32_t x, uint32_t y) {
@@ -166,9 +173,9 @@ typedef struct pits_rheap {
     uint64_t *b[33];
     size_t n[33], cap[33];
     size_t size;
+    uint32_t min[33]; /* each non-empty bucket's smallest key */
+    uint64_t used;    /* bit i: bucket i is not empty */
     uint32_t last;
-    uint32_t peek; /* with peek_ok: the smallest key, while bucket 0 is empty */
-    int peek_ok;
     int oom;
 } pits_rheap;
 
@@ -188,31 +195,35 @@ static inline void pits_rheap_push(pits_rheap *r, uint32_t key, uint32_t id) {
         pits_rheap_grow(r, i);
         if (r->oom) return;
     }
+    if (!r->n[i] || key < r->min[i]) r->min[i] = key;
     r->b[i][r->n[i]++] = (uint64_t)key << 32 | id;
+    r->used |= 1ull << i;
     r->size++;
-    if (r->peek_ok && key < r->peek) r->peek = key;
+}
+
+/* The first non-empty bucket above bucket 0 (r->size > r->n[0]). */
+static inline int pits_rheap_first(const pits_rheap *r) {
+    return __builtin_ctzll(r->used & ~1ull);
 }
 
 /* Refill bucket 0 from the first non-empty bucket (r->size > 0). */
 static inline void pits_rheap_refill(pits_rheap *r) {
-    int i = 1;
-    while (!r->n[i])
-        i++;
+    const int i = pits_rheap_first(r);
     uint64_t *e = r->b[i];
     size_t n = r->n[i];
-    uint64_t m = e[0];
-    for (size_t k = 1; k < n; k++)
-        if (e[k] < m) m = e[k];
-    r->last = (uint32_t)(m >> 32);
-    r->peek_ok = 0;
+    r->last = r->min[i];
     r->n[i] = 0;
+    r->used &= ~(1ull << i);
     for (size_t k = 0; k < n; k++) { /* every entry goes to a bucket below i */
-        int j = pits_rheap_bucket((uint32_t)(e[k] >> 32), r->last);
+        const uint32_t key = (uint32_t)(e[k] >> 32);
+        int j = pits_rheap_bucket(key, r->last);
         if (r->n[j] == r->cap[j]) {
             pits_rheap_grow(r, j);
             if (r->oom) return; /* the caller stops on oom; entries may be lost */
         }
+        if (!r->n[j] || key < r->min[j]) r->min[j] = key;
         r->b[j][r->n[j]++] = e[k];
+        r->used |= 1ull << j;
     }
     if (r->cap[i] > 4096) pits_rheap_release(r, i); /* its entries now live below */
 }
@@ -221,21 +232,10 @@ static inline void pits_rheap_refill(pits_rheap *r) {
  * leaves `last` alone: a flood that merges the heap with a FIFO of its own (the
  * minimal epsilon-surface) may take a smaller value from the FIFO next and push keys
  * below the heap's smallest, which must still be >= last. So an empty bucket 0 is
- * not refilled here; the first non-empty bucket's smallest key is found by a scan and
- * kept (pushes lower it) until the next pop. */
-static inline uint32_t pits_rheap_top_key(pits_rheap *r) {
-    if (r->n[0]) return r->last;
-    if (!r->peek_ok) {
-        int i = 1;
-        while (!r->n[i])
-            i++;
-        uint64_t m = r->b[i][0];
-        for (size_t k = 1; k < r->n[i]; k++)
-            if (r->b[i][k] < m) m = r->b[i][k];
-        r->peek = (uint32_t)(m >> 32);
-        r->peek_ok = 1;
-    }
-    return r->peek;
+ * not refilled here: the first non-empty bucket's smallest key is the heap's, and
+ * each bucket keeps its own (pushes lower it, a refill sets it anew). */
+static inline uint32_t pits_rheap_top_key(const pits_rheap *r) {
+    return r->n[0] ? r->last : r->min[pits_rheap_first(r)];
 }
 
 /* Removes one entry with the smallest key: returns (key << 32 | id). */
@@ -243,7 +243,7 @@ static inline uint64_t pits_rheap_pop(pits_rheap *r) {
     if (!r->n[0]) pits_rheap_refill(r);
     if (r->oom) return 0;
     r->size--;
-    r->peek_ok = 0; /* a push into bucket 0 may have made the popped key the peek */
+    if (r->n[0] == 1) r->used &= ~1ull;
     return r->b[0][--r->n[0]];
 }
 
@@ -319,7 +319,8 @@ int pits_meps_flood(pits_meps *m, pits_heap *q);
  * queued; pits_seed queues them again); on return every non-sink cell is
  * PITS_CLOSED. o: the options pits_begin marked st with, when st holds exactly its
  * sinks, so that the surface may come from a parallel fill instead of the flood
- * (same bits); NULL: the flood. Returns nonzero when out of memory. */
+ * (same bits); NULL: the flood. Returns nonzero when out of memory, and then st may
+ * still hold the flood's own states (PITS_SOURCE, PITS_DONE): fit only to be freed. */
 int pits_meps_compute(const pg_pits_topo *t, const float *h, const pg_pits_opts *o, uint8_t *st,
                       const pits_heap *q, float *w, int eps);
 /* The same with eps = 1, and the minimal fill of h along the flood's tree into fill;

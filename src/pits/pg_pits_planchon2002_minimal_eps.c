@@ -163,7 +163,7 @@ static int flood_rest(const pg_pits_topo *t, const float *h, uint8_t *st, float 
                       float *fill) {
     pits_heap q = {0};
     uint32_t nb[8];
-    const uint64_t rows = t->w ? t->ncells / t->w : 0; /* a row at a time: no division */
+    const uint64_t rows = pits_rows(t); /* a row at a time: no division */
     for (uint64_t row = 0; row < rows; row++)
         for (uint32_t x = 0, y = (uint32_t)(row % t->h); x < t->w; x++) {
             const uint32_t i = (uint32_t)(row * t->w) + x;
