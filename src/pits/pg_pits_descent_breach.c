@@ -80,22 +80,6 @@ static uint32_t parent_of(const descent *d, uint32_t x) {
  * a token: it has no strictly lower neighbour nor a sink neighbour, and without epsilon
  * the minimal fill (d->fill) raises it (drained flats need nothing). Returns P(i). */
 static uint32_t pick_parent(descent *d, uint32_t i, uint32_t x, uint32_t y) {
-    if (pits_inner(d->t, x, y)) { /* neighbours in id order: the first smallest W wins */
-        const float hi = d->h[i];
-        uint32_t best = UINT32_MAX;
-        int best_j = 0, lower = 0;
-        for (int j = 0; j < 8; j++) {
-            const uint32_t n = (uint32_t)((int64_t)i + pits_inner_offset(d->t, j));
-            const int closed = d->st[n] == PITS_CLOSED;
-            const uint32_t o = closed ? pits_ord(d->v[n]) : pits_ord(-INFINITY);
-            best_j = o < best ? j : best_j;
-            best = o < best ? o : best;
-            lower |= !closed | (d->h[n] < hi);
-        }
-        int pit = !lower && (!d->fill || d->fill[i] > hi);
-        d->slot[i] = (uint8_t)(best_j | (pit ? PIT : 0) | INNER);
-        return (uint32_t)((int64_t)i + pits_inner_offset(d->t, best_j));
-    }
     uint32_t nb[8];
     int k = pg_pits_neighbours_xy(d->t, i, x, y, nb), best_j = 0, lower = 0;
     uint64_t best = UINT64_MAX;
@@ -107,7 +91,7 @@ static uint32_t pick_parent(descent *d, uint32_t i, uint32_t x, uint32_t y) {
         lower |= !closed || d->h[nb[j]] < hi;
     }
     int pit = !lower && (!d->fill || d->fill[i] > hi);
-    d->slot[i] = (uint8_t)(best_j | (pit ? PIT : 0));
+    d->slot[i] = (uint8_t)(best_j | (pit ? PIT : 0) | (pits_inner(d->t, x, y) ? INNER : 0));
     return nb[best_j];
 }
 
