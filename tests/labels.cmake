@@ -19,7 +19,7 @@ set(PG_LABEL_unit
     test_earthlike test_exemplar test_export_mesh test_generate test_image_io
     test_inspect_copy test_inspect_distortion test_inspect_seams test_lpips test_mpi_pits
     test_pits_cube test_pits_gainpit test_pits_grid test_planet test_readme_table
-    test_synth_engine test_plates test_climate)
+    test_synth_engine test_synth_grid_shape test_plates test_climate)
 set(PG_LABEL_e2e
     test_bad_input test_cli test_cube_cli test_determinism test_export_cli test_generate_cli
     test_inspect test_install test_pits_cli test_pits_gdal test_pits_relief test_realism_e2e

@@ -331,8 +331,8 @@ static void test_upsample_orientation(void **state) {
         for (int o = 0; o < 4; o++) {
             uint32_t S0 = pg_synth_with_orient(pg_synth_pack(0, 20, 30), o), S1[4];
             float V0 = 0, V1[4];
-            pg_synth_view parent = {&S0, &V0, NULL, 1, 1, 1, 0, 0, 0};
-            pg_synth_view child = {S1, V1, NULL, 2, 2, 2, 0, 0, 0};
+            pg_synth_view parent = {&S0, &V0, NULL, 1, 1, 1, 0, 0, 0, 0};
+            pg_synth_view child = {S1, V1, NULL, 2, 2, 2, 0, 0, 0, 0};
             pg_synth_upsample(ex, s, &parent, &child);
             int set[4][2];
             for (int d = 0; d < 4; d++) {

@@ -52,6 +52,7 @@ typedef struct pg_planet_generation {
     bool sea_ice; /* layout world: the polar oceans carry sea ice (docs/generate.md) */
     double jitter;
     int passes;
+    double grid_shape; /* the correction's grid-shape weight at the cube's corners */
 } pg_planet_generation;
 
 typedef struct pg_planet {

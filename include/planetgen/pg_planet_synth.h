@@ -142,6 +142,10 @@ bool pg_sea_ice_apply(const pg_sea_ice *s, int f, int64_t X, int64_t Y, float he
 #define PG_PLANET_KEEP_AUTO (-1)     /* keep_levels by ground scale */
 #define PG_PLANET_FACE_MIN 512       /* smallest exemplar face with 6 analysed levels */
 #define PG_PLANET_FACE_AUTO_MAX 2048 /* largest exemplar face chosen automatically */
+/* The planet's synth.grid_shape by default: near the cube's corners, candidates whose
+ * exemplar grid has the output texel's shape (docs/synthesis.md, "Grid shape at the
+ * cube's corners"). */
+#define PG_PLANET_GRID_SHAPE 25.0
 
 /* DISTRIBUTION HOOKS (docs/mpi.md, "What is distributed, and how"; filled by pg_mpi.h,
  * NULL in a single process). A level of the synthesis, as the hooks see it: face f's

@@ -189,6 +189,11 @@ typedef struct pg_synth_params {
     bool height_offsets;   /* Gain et al. offsets V; default true */
     double offset_penalty; /* lambda: an offset h costs lambda*4*h^2; 0 = Gain; default 1 */
     int tile_size;         /* flat driver: correction tile size (0 = whole level) */
+    /* cube synthesis near the cube's corners: a candidate costs * (1 + grid_shape s d), d
+     * how far its exemplar texel's grid shape is from the output texel's, s from 0 at
+     * 0.5 of a face's half-width from both its edges to 1 at a corner; 0 = off (the
+     * default; docs/synthesis.md, "Grid shape at the cube's corners") */
+    double grid_shape;
 } pg_synth_params;
 
 void pg_synth_params_default(pg_synth_params *p);
@@ -209,6 +214,7 @@ typedef struct pg_synth_view {
     int w, h;
     int face;    /* output face (for hashing); 0 for a flat region */
     long gx, gy; /* global position of interior texel (0,0) at this level */
+    int face_r;  /* texels along a cube face's edge at this level; 0: not a cube face */
 } pg_synth_view;
 
 /* Apply dihedral transform o to an offset (dx, dy). */

@@ -102,6 +102,7 @@ static void set_params(const gen_args *a, const gen_inputs *in, pg_planet_synth_
     p->synth.seed = (uint64_t)a->seed;
     p->synth.jitter = a->jitter;
     p->synth.passes = (int)a->passes;
+    p->synth.grid_shape = a->grid_shape;
     /* with a guide and no explicit layout, the sketch gives the arrangement */
     p->layout = is_world(a)                                ? PG_LAYOUT_WORLD
                 : a->layout && !strcmp(a->layout, "earth") ? PG_LAYOUT_EARTH
@@ -344,6 +345,11 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
                     (unsigned long long)si->after.depressions);
     pg_cli_verbose(cli, "method   Lefebvre & Hoppe 2005/2006 correction with Gain, Merry & "
                         "Marais 2015 height offsets and type constraints\n");
+    if (p->synth.grid_shape > 0)
+        pg_cli_verbose(cli,
+                       "corners  candidates weighed by their grid's shape, weight %g "
+                       "(docs/synthesis.md)\n",
+                       p->synth.grid_shape);
     if (p->guide)
         pg_cli_verbose(cli,
                        "guide    Scott & Dodgson 2021 soft constraint, weight %.2f halving "
@@ -379,6 +385,7 @@ static void report(pg_cli *cli, const gen_args *a, const pg_planet_synth_params 
     pg_json_set_number(pp, "exemplar_face_size", sc->face);
     pg_json_set_number(pp, "jitter", p->synth.jitter);
     pg_json_set_number(pp, "passes", p->synth.passes);
+    pg_json_set_number(pp, "grid_shape", p->synth.grid_shape);
     pg_json_set_string(pp, "guide", a->guide ? a->guide : "");
     pg_json_set_number(pp, "guide_weight", p->guide_alpha);
     pg_json_set_string(pp, "types", a->types ? a->types : "");
@@ -443,6 +450,7 @@ static void record_generation(const gen_args *a, const pg_planet_synth_params *p
     }
     g->jitter = a->jitter;
     g->passes = (int)a->passes;
+    g->grid_shape = a->grid_shape;
 }
 
 static void on_progress(void *user, double frac) {
@@ -561,6 +569,7 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
                   .passes = 2,
                   .face_size = 0, /* auto */
                   .jitter = 0.4,
+                  .grid_shape = PG_PLANET_GRID_SHAPE,
                   .guide_weight = -1, /* auto: GEN_GUIDE_WEIGHT, or 1 for layout world */
                   .plates = 14,
                   .land_fraction = 0.29,
@@ -610,6 +619,9 @@ int pg_cmd_generate(pg_cli *cli, int argc, char **argv) {
         {"--jitter", NULL, PG_OPT_DOUBLE, &a.jitter, 0, 1, NULL, "R", "jitter strength (0.4)"},
         {"--passes", NULL, PG_OPT_INT, &a.passes, 1, 16, NULL, "C",
          "correction passes per level (2)"},
+        {"--grid-shape", NULL, PG_OPT_DOUBLE, &a.grid_shape, 0, 1000, NULL, "W",
+         "near the cube's corners, prefer exemplar texels whose grid has the output's shape, "
+         "weight W (25; 0 = off; docs/synthesis.md)"},
         {"--max-memory", NULL, PG_OPT_DOUBLE, &a.max_memory_gb, 0.001, 1e6, NULL, "GB",
          "memory limit instead of the available memory"},
         {"--preview-width", NULL, PG_OPT_INT, &a.preview_width, 16, 16384, NULL, "W",

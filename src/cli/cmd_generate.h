@@ -23,6 +23,7 @@ typedef struct gen_args {
     pg_cli_exemplar in;
     long tiles, tile_size, seed, keep_levels, pit_skip, passes, face_size, preview_width;
     double jitter, guide_weight, max_memory_gb;
+    double grid_shape;                                    /* synth.grid_shape (pg_synth.h) */
     long plates;                                          /* layout world */
     double land_fraction, axial_tilt, temperature_offset; /* layout world */
     bool no_cache, independent, no_glb, no_sea_ice;

@@ -228,6 +228,7 @@ pg_json *pg_planet_meta_json(const pg_planet *p) {
         }
         pg_json_set_number(o, "jitter", g->jitter);
         pg_json_set_number(o, "passes", g->passes);
+        pg_json_set_number(o, "grid_shape", g->grid_shape);
     }
     return j;
 }

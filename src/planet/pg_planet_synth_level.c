@@ -102,13 +102,13 @@ void pg_ps_level_free(pg_ps_level *L) {
 
 static pg_synth_view face_view(const pg_ps_level *L, int f) {
     size_t o = pg_ps_at(L, f, 0, 0);
-    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, L->r, L->r, f, 0, 0};
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, L->r, L->r, f, 0, 0, L->r};
     return v;
 }
 
 static pg_synth_view tile_view(const pg_ps_level *L, int f, int x0, int y0, int w, int h) {
     size_t o = pg_ps_at(L, f, x0, y0);
-    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, w, h, f, x0, y0};
+    pg_synth_view v = {L->S + o, L->V + o, NULL, L->st, w, h, f, x0, y0, L->r};
     return v;
 }
 
@@ -330,7 +330,7 @@ static void correct_tile_alone(const pg_ps_ctx *c, int scale, int parity, const 
             S[dst] = pg_synth_offset(c->ex, v->S[src], h * (x - cx), h * (y - cy));
             V[dst] = v->V[src];
         }
-    pg_synth_view t = {S + st + 1, V + st + 1, NULL, st, w, hgt, v->face, v->gx, v->gy};
+    pg_synth_view t = {S + st + 1, V + st + 1, NULL, st, w, hgt, v->face, v->gx, v->gy, v->face_r};
     pg_synth_correct_subpass(c->ex, scale, &c->p->synth, parity, &t);
     for (int y = 0; y < hgt; y++)
         for (int x = 0; x < w; x++) {
@@ -358,7 +358,8 @@ static void correct_view(const pg_ps_ctx *c, int scale, int parity, pg_synth_vie
 static pg_synth_view rect_view(const pg_ps_ctx *c, const pg_ps_level *L, int f, int x0, int y0,
                                int x1, int y1) {
     size_t o = pg_ps_at(L, f, x0, y0);
-    pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st, x1 - x0, y1 - y0, f, x0, y0};
+    pg_synth_view v = {L->S + o, L->V + o, c->bm.orient + o, L->st, x1 - x0, y1 - y0, f, x0,
+                       y0,       L->r};
     return v;
 }
 

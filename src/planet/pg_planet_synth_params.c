@@ -11,6 +11,7 @@ void pg_planet_synth_params_default(pg_planet_synth_params *p) {
     p->tiles = 4;
     p->tile_size = 256;
     pg_synth_params_default(&p->synth);
+    p->synth.grid_shape = PG_PLANET_GRID_SHAPE;
     p->layout = PG_LAYOUT_EARTH;
     p->keep_levels = PG_PLANET_KEEP_AUTO;
     p->guide_alpha = 0.8;
