@@ -190,9 +190,11 @@ typedef struct pg_synth_params {
     double offset_penalty; /* lambda: an offset h costs lambda*4*h^2; 0 = Gain; default 1 */
     int tile_size;         /* flat driver: correction tile size (0 = whole level) */
     /* cube synthesis near the cube's corners: a candidate costs * (1 + grid_shape s d), d
-     * how far its exemplar texel's grid shape is from the output texel's, s from 0 at
-     * 0.5 of a face's half-width from both its edges to 1 at a corner; 0 = off (the
-     * default; docs/synthesis.md, "Grid shape at the cube's corners") */
+     * how far its exemplar texel's grid shape is from the output texel's, s from 0 where
+     * either face coordinate is within half a half-width of the centre to 1 at a corner,
+     * fading out over the 4 texels before a face edge. 0 = off, pg_synth_params_default's
+     * value; the planet synthesis's default is PG_PLANET_GRID_SHAPE (docs/synthesis.md,
+     * "Grid shape at the cube's corners") */
     double grid_shape;
 } pg_synth_params;
 

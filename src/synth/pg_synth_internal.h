@@ -95,25 +95,4 @@ pg_status pg_synth_cache_load(const char *path, uint64_t key, pg_synth_exemplar 
 pg_status pg_synth_cache_save(const char *path, const pg_synth_exemplar *ex, pg_error *err);
 pg_synth_exemplar *pg_synth_exemplar_alloc(int nfaces, int size, int levels, int dims, int k);
 
-/* The grid shape of the equi-angular cube (pg_synth_lefebvre_hoppe.c, "grid shape"):
- * g = (gxx, gyy, gxy), the Gram matrix of one texel's steps along x and y on the unit
- * sphere over that at a face centre, at the face angles whose tangents are X and Y. It
- * is the same function on every face, in the face's own frame. */
-static inline void pg_synth_grid_gram(float X, float Y, float g[3]) {
-    const float x2 = 1 + X * X, y2 = 1 + Y * Y, p = x2 + Y * Y, inv = 1.0f / (p * p);
-    g[0] = x2 * x2 * y2 * inv;
-    g[1] = y2 * y2 * x2 * inv;
-    g[2] = -x2 * y2 * X * Y * inv;
-}
-
-/* g seen from a frame turned by `turns` quarter turns (pg_synth_orient_apply's rotations,
- * which take the view's offsets into the texel's frame): an odd number swaps the two
- * steps and negates their product. */
-static inline void pg_synth_grid_gram_turned(const float g[3], int turns, float out[3]) {
-    const int odd = turns & 1;
-    out[0] = g[odd];
-    out[1] = g[1 - odd];
-    out[2] = odd ? -g[2] : g[2];
-}
-
 #endif

@@ -29,6 +29,7 @@
  * scan order cannot change it. Halo texels across a cube seam carry an orientation:
  * offsets into them are rotated into their frame (docs/synthesis.md, "Reuse by the planet").
  * Ties keep the incumbent, then the earliest candidate, so results are exact. */
+#include "pg_synth_grid_shape.h"
 #include "pg_synth_internal.h"
 
 #include <math.h>
@@ -248,33 +249,6 @@ static inline float lane_sum(const lanes *a) {
            ((LANE(*a, 4) + LANE(*a, 5)) + (LANE(*a, 6) + LANE(*a, 7)));
 }
 
-/* The grid shape at the cube's corners. A copy takes whole texels to whole texels, so it
- * keeps ground lengths and angles only where the exemplar texel's grid has the output
- * texel's shape. On the equi-angular cube the grid is square at a face's centre, has
- * sides in the ratio 1 : 0.71 at an edge's midpoint, and is a rhombus of 60 and 120
- * degrees at a corner, where a copy of square texels is stretched by up to 1.7
- * (docs/inspect.md, "Distortion"). Near the corners the correction therefore weighs
- * each candidate's grid against the output's: G = [gxx gxy; gxy gyy], the Gram matrix
- * of one texel's steps along x and y on the unit sphere over that at a face centre, is
- * for face angles (a, b) with X = tan a, Y = tan b, p = 1 + X^2 + Y^2:
- *   gxx = (1 + X^2)^2 (1 + Y^2) / p^2,  gyy = (1 + Y^2)^2 (1 + X^2) / p^2,
- *   gxy = -(1 + X^2) (1 + Y^2) X Y / p^2
- * (the derivatives of (X, Y, 1) / sqrt(p)), the same on every face in its own frame; a
- * candidate turned by an odd number of quarter turns into the view's frame swaps gxx and
- * gyy and negates gxy. The mismatch d is the Frobenius norm of the difference, and a
- * candidate's penalty is multiplied by 1 + w s d. The nearness s to a corner is 0 where
- * either face coordinate lies within SHAPE_A0 of the centre (a half-width is 1), rises
- * linearly to 1 at the corner, and fades to 0 over the last SHAPE_FADE texels before a
- * face edge. The fade is for the seams: the grid kinks where two faces meet (the steps
- * across a seam turn, except at its midpoint), so a patch that continues across a seam
- * has the shape of one side at most, and without the fade the term broke the patches
- * there (docs/synthesis.md). Positions are quantised to SHAPE_Q steps along a face's
- * edge; the penalty is a pure function of the texel and the candidate, as the
- * correction's order independence needs. */
-#define SHAPE_Q 256
-#define SHAPE_A0 0.5f   /* s = 0 where either face coordinate is within this of the centre */
-#define SHAPE_FADE 4.0f /* s fades to 0 over this many texels (of the level) to a face edge */
-
 typedef struct corr_ctx {
     const pg_synth_exemplar *ex;
     const int16_t *A;
@@ -285,8 +259,8 @@ typedef struct corr_ctx {
     bool offsets;
     float lambda; /* offset penalty */
     lanes mask;   /* 1 for components 2..dims, else 0 */
-    float shape;  /* grid_shape weight; 0: off */
-    float tanq[SHAPE_Q];
+    float shape;  /* grid_shape weight; 0: off (pg_synth_grid_shape.h) */
+    float tanq[PG_SYNTH_SHAPE_Q];
 } corr_ctx;
 
 static inline const int16_t *app_at(const corr_ctx *c, uint32_t q) {
@@ -397,36 +371,14 @@ HOT float cand_dist(const corr_ctx *c, const lanes ns[ND], const uint32_t dq[ND]
     return (first + rest) * pen;
 }
 
-/* G of the grid at the face position (iu, iv) of SHAPE_Q x SHAPE_Q. */
-HOT void grid_gram(const corr_ctx *c, int iu, int iv, float g[3]) {
-    pg_synth_grid_gram(c->tanq[iu], c->tanq[iv], g);
-}
-
-/* Each candidate's penalty times 1 + w s d (the grid shape, above); texels away from
+/* Each candidate's penalty times 1 + w s d (pg_synth_grid_shape.h); texels away from
  * the corners (s = 0) are left alone. */
 HOT void shape_penalties(const corr_ctx *c, const pg_synth_view *v, int x, int y, cand_list *l) {
-    const int64_t r = v->face_r, E = c->ex->face_size;
-    const int iu = (int)((v->gx + x) * SHAPE_Q / r), iv = (int)((v->gy + y) * SHAPE_Q / r);
-    const float a = fabsf((iu + 0.5f) * (2.0f / SHAPE_Q) - 1.0f),
-                b = fabsf((iv + 0.5f) * (2.0f / SHAPE_Q) - 1.0f);
-    float s = ((a < b ? a : b) - SHAPE_A0) / (1.0f - SHAPE_A0);
-    if (s <= 0) return;
-    const int64_t X = v->gx + x, Y = v->gy + y; /* texels to the nearest face edge */
-    int64_t e = X < r - 1 - X ? X : r - 1 - X;
-    if (Y < e) e = Y;
-    if (r - 1 - Y < e) e = r - 1 - Y;
-    if (e < SHAPE_FADE) s *= (float)e / SHAPE_FADE;
-    if (s <= 0) return;
-    float gp[3];
-    grid_gram(c, iu, iv, gp);
-    for (int i = 0; i < l->n; i++) {
-        const uint32_t q = l->q[i];
-        float ge[3], gt[3];
-        grid_gram(c, (int)(pg_synth_u(q) * SHAPE_Q / E), (int)(pg_synth_v(q) * SHAPE_Q / E), ge);
-        pg_synth_grid_gram_turned(ge, pg_synth_orient(q), gt);
-        const float dxx = gp[0] - gt[0], dyy = gp[1] - gt[1], dxy = gp[2] - gt[2];
-        l->pen[i] *= 1.0f + c->shape * s * sqrtf(dxx * dxx + dyy * dyy + 2 * dxy * dxy);
-    }
+    pg_synth_shape_texel t;
+    if (!pg_synth_shape_texel_at(c->tanq, v->face_r, v->gx + x, v->gy + y, &t)) return;
+    const float ws = c->shape * t.s;
+    for (int i = 0; i < l->n; i++)
+        l->pen[i] *= pg_synth_shape_factor(c->tanq, &t, ws, c->ex->face_size, l->q[i]);
 }
 
 /* Texels are corrected in small batches, phase by phase, with prefetches issued one
@@ -531,8 +483,7 @@ void pg_synth_correct_subpass(const pg_synth_exemplar *ex, int scale, const pg_s
         LANE(c.mask, i) = i >= 1 && i < ex->dims ? 1.0f : 0.0f;
     if (p->grid_shape > 0 && !ex->torus && v->face_r > 0) {
         c.shape = (float)p->grid_shape;
-        for (int i = 0; i < SHAPE_Q; i++)
-            c.tanq[i] = (float)tan(((i + 0.5) / SHAPE_Q - 0.5) * (M_PI / 2));
+        pg_synth_shape_table(c.tanq);
     }
     const int px = parity & 1, py = parity >> 1;
 #pragma omp parallel for schedule(dynamic, 4) if (v->w * v->h >= 16384)
