@@ -336,6 +336,12 @@ int pits_meps_from_fill(const pg_pits_topo *t, const float *f, const uint8_t *st
  * sinks count as -inf): 0 when it does, so that w is the epsilon-surface of any input
  * between f's input and w. Sets w = f at the sinks and no-data cells. Parallel. */
 int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, float *w);
+/* Lowers fill, a supersolution of the minimal fill's equation whose every value is the
+ * highest ground on some path to a sink (a fill along any tree towards the sinks), to
+ * the minimal fill of h, touching only the cells above it (st as pits_begin marked it,
+ * OPEN or CLOSED elsewhere). 0 when done and checked; -1 when fill is not such a
+ * supersolution or memory ran out (fill is then partly lowered). */
+int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill);
 /* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
 void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
 /* fill = h at every cell that is not OPEN: the minimal fill there, for the floods that

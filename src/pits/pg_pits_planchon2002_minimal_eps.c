@@ -409,21 +409,81 @@ int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, fl
  * take the next cell n on c's path to a sink whose highest ground is f(c): n is not a
  * sink (F(c) would be h(c) <= f(c)), F(n) >= F(c) since F(c) > h(c), and f(n) <= f(c),
  * so n has F(n) > f(n) as well, and so on down to the sink: a contradiction. 0 when it
- * holds. Parallel, linear. */
+ * holds. Parallel, linear. fill_rhs is the right side at cell i. */
+static inline float fill_rhs(const pg_pits_topo *t, const float *h, const uint8_t *st,
+                             const float *fill, int64_t i) {
+    uint32_t nb[8];
+    int k = pg_pits_neighbours(t, (uint32_t)i, nb);
+    float m = INFINITY;
+    for (int j = 0; j < k; j++)
+        m = pits_minf(m, st[nb[j]] >= PITS_SINK ? -INFINITY : fill[nb[j]]);
+    return pits_maxf(h[i], m);
+}
+
 static int fill_check(const pg_pits_topo *t, const float *h, const uint8_t *st, const float *fill) {
     const int64_t n = (int64_t)t->ncells;
     int64_t bad = 0;
 #pragma omp parallel for reduction(+ : bad) schedule(static)
+    for (int64_t i = 0; i < n; i++)
+        if (st[i] < PITS_SINK) bad += bits_of(fill[i]) != bits_of(fill_rhs(t, h, st, fill, i));
+    return bad != 0;
+}
+
+/* When fill_check fails: lowers the tree's fill to the minimal fill f. The tree of W
+ * (1) and the minimal fill's paths part where two spills of a depression differ by less
+ * than the epsilon ramp to them: W drains a cell over the nearer spill, f over the lower
+ * one. That is a handful of cells in millions (4 to 35 on the default planets), so
+ * instead of a second fill of the whole surface (docs/pits.md, "Metrics") a Dijkstra
+ * search lowers only them: the tree's fill F is a supersolution of f's equation,
+ * F(c) = max(h(c), F(parent)) >= max(h(c), min over neighbours F(n)), with F >= f
+ * (each F(c) is the highest ground on a real path). The search starts from the cells
+ * where F exceeds its own equation's right side and sets each cell at most once, in
+ * nondecreasing value (an offer max(h, v) is never below the value v it came from), to
+ * the least path value it can reach; when it stops, F solves the equation everywhere
+ * and is still a path value at every cell, so F <= f (f is the largest solution) and
+ * F >= f: F = f, whatever the order of the search. Returns 0 when F is f, checked again
+ * by fill_check; -1 when some cell lies below its right side (not a supersolution: the
+ * caller falls back to a fill of its own) or memory ran out. Serial after one parallel
+ * scan. The argument holds for the fill along any tree towards the sinks, not only W's
+ * (test_pits_grid checks random trees). */
+int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill) {
+    const int64_t n = (int64_t)t->ncells;
+    pits_heap q = {0};
+    int64_t below = 0;
+#pragma omp parallel for reduction(+ : below) schedule(static)
     for (int64_t i = 0; i < n; i++) {
         if (st[i] >= PITS_SINK) continue;
-        uint32_t nb[8];
-        int k = pg_pits_neighbours(t, (uint32_t)i, nb);
-        float m = INFINITY;
-        for (int j = 0; j < k; j++)
-            m = pits_minf(m, st[nb[j]] >= PITS_SINK ? -INFINITY : fill[nb[j]]);
-        bad += bits_of(fill[i]) != bits_of(pits_maxf(h[i], m));
+        const float want = fill_rhs(t, h, st, fill, i);
+        if (want < fill[i]) {
+#pragma omp critical(pits_fill_repair)
+            pits_heap_push(&q, pits_key(want, (uint32_t)i));
+        } else if (bits_of(want) != bits_of(fill[i])) {
+            below++;
+        }
     }
-    return bad != 0;
+    while (!below && !q.oom && q.n) {
+        const uint64_t key = pits_heap_pop(&q);
+        const uint32_t c = pits_key_id(key);
+        const float v = pits_key_height(key);
+        if (!(v < fill[c])) continue; /* set already, as low or lower */
+        fill[c] = v;
+        uint32_t nb[8];
+        int k = pg_pits_neighbours(t, c, nb);
+        for (int j = 0; j < k; j++) {
+            if (st[nb[j]] >= PITS_SINK) continue;
+            const float cand = pits_maxf(h[nb[j]], v);
+            if (cand < fill[nb[j]]) pits_heap_push(&q, pits_key(cand, nb[j]));
+        }
+    }
+    const int failed = below || q.oom;
+    pits_heap_free(&q);
+    return failed || fill_check(t, h, st, fill) ? -1 : 0;
+}
+
+/* The tree's fill checked, and repaired where the check fails: 1 when fill is the
+ * minimal fill of h. */
+static int fill_exact(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill) {
+    return !fill_check(t, h, st, fill) || !pits_fill_repair(t, h, st, fill);
 }
 
 /* floor: NULL, or a copy of h that stays the input, so that the surface goes straight
@@ -439,7 +499,7 @@ static pg_status eps_fill(const pg_pits_topo *t, float *h, const pg_pits_opts *o
     const float *in = floor ? floor : h; /* no-data cells are not read: sinks */
     float *w = floor ? h : pg_huge_malloc(t->ncells * sizeof *w);
     int oom = !w || meps_compute(t, in, o, st, &q, w, 1, fill);
-    if (!oom && fill) *exact = !fill_check(t, in, st, fill);
+    if (!oom && fill) *exact = fill_exact(t, in, st, fill);
     for (uint64_t i = 0; !oom && !floor && i < t->ncells; i++)
         if (st[i] == PITS_CLOSED) h[i] = w[i];
     pits_heap_free(&q);
@@ -467,6 +527,6 @@ int pits_meps_compute_fill(const pg_pits_topo *t, const float *h, const pg_pits_
                            uint8_t *st, const pits_heap *q, float *w, float *fill, int *exact) {
     *exact = 0;
     if (meps_compute(t, h, o, st, q, w, 1, fill)) return -1;
-    *exact = !fill_check(t, h, st, fill);
+    *exact = fill_exact(t, h, st, fill);
     return 0;
 }
