@@ -44,6 +44,7 @@
 
 #include "planetgen/pg_climate.h"
 #include "planetgen/pg_types.h"
+#include "pg_hash.h"
 #include "pg_vec3.h"
 
 #include <math.h>
@@ -110,7 +111,7 @@ static double fade(double t) {
 
 /* Gradient noise (Perlin 2002, "Improving noise", SIGGRAPH) at point p of the integer
  * lattice: each lattice point holds one of the 12 gradients (+-1, +-1, 0) and their
- * turns, drawn from pg_synth_hash(seed, level, lattice point, salt); the eight around p
+ * turns, drawn from pg_hash_texel(seed, level, lattice point, salt); the eight around p
  * are blended with the quintic fade, so the field is smooth across every cell face and
  * shows no grid. About -1..1, standard deviation GRAD_SD. */
 static double gradient_noise(uint64_t seed, int level, int salt, const double p[3]) {
@@ -122,7 +123,7 @@ static double gradient_noise(uint64_t seed, int level, int salt, const double p[
     }
     for (int k = 0; k < 8; k++) {
         const int dx = k & 1, dy = k >> 1 & 1, dz = k >> 2;
-        const uint32_t h = pg_synth_hash(seed, level, (int)(c[2] + dz), c[0] + dx, c[1] + dy, salt);
+        const uint32_t h = pg_hash_texel(seed, level, (int)(c[2] + dz), c[0] + dx, c[1] + dy, salt);
         const double x = f[0] - dx, y = f[1] - dy, z = f[2] - dz;
         const uint32_t g = h % 12; /* pair of axes g / 4, their signs g & 3 */
         const double g0 = g & 1 ? -1 : 1, g1 = g & 2 ? -1 : 1;
@@ -180,8 +181,8 @@ static double lead_edge(const pg_sea_ice *s, const double d[3]) {
         if (lb >= f2) continue;
         const long x = c[0] + o[0], y = c[1] + o[1], z = c[2] + o[2];
         /* the feature point: 16 bits a coordinate from two hashes */
-        const uint32_t h0 = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 100);
-        const uint32_t h1 = pg_synth_hash(s->seed, 16, (int)z, x, y, SALT + 101);
+        const uint32_t h0 = pg_hash_texel(s->seed, 16, (int)z, x, y, SALT + 100);
+        const uint32_t h1 = pg_hash_texel(s->seed, 16, (int)z, x, y, SALT + 101);
         const double q[3] = {(double)x + (h0 & 0xffff) * (1.0 / 65536.0),
                              (double)y + (h0 >> 16) * (1.0 / 65536.0),
                              (double)z + (h1 & 0xffff) * (1.0 / 65536.0)};

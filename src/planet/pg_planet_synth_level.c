@@ -9,6 +9,7 @@
  * Every operation works per owned tile when the distribution hooks are set (docs/mpi.md,
  * "What is distributed, and how"): a tile's texels depend only on values the hooks'
  * exchange provides, so every process computes the same bits as a single one. */
+#include "pg_hash.h"
 #include "pg_huge.h"
 #include "pg_planet_synth_internal.h"
 
@@ -232,8 +233,8 @@ void pg_ps_init_top(pg_ps_ctx *c, pg_ps_level *L) {
                 float g = c->guide ? c->guide[((size_t)f * r + y) * r + x] : 0, best = INFINITY;
                 q = 0;
                 for (int k = 0; k < ndraw; k++) {
-                    uint32_t a = pg_synth_hash(seed, 99, f, x, y, 7 + 2 * k);
-                    uint32_t b = pg_synth_hash(seed, 99, f, x, y, 8 + 2 * k);
+                    uint32_t a = pg_hash_texel(seed, 99, f, x, y, 7 + 2 * k);
+                    uint32_t b = pg_hash_texel(seed, 99, f, x, y, 8 + 2 * k);
                     uint32_t cand = pg_synth_pack((int)(a % 6u), (int)((a >> 3) % (uint32_t)E),
                                                   (int)(b % (uint32_t)E));
                     float d = fabsf(pg_synth_level_height(ex, s, cand) - g);

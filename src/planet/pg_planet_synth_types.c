@@ -7,6 +7,7 @@
  * The fix-up runs on the texels of the sub-pass's parity class in the same view and
  * reads only its neighbours (of the other classes) and hashed draws, so it keeps the
  * sub-pass's independence of tile size, order and thread count. */
+#include "pg_hash.h"
 #include "pg_huge.h"
 #include "pg_planet_synth_internal.h"
 #include "pg_vec3.h"
@@ -284,7 +285,7 @@ void pg_ps_types_fixup(const pg_ps_ctx *c, int scale, int parity, pg_synth_view 
                 __builtin_prefetch(height_addr(c, scale, t->q[k]));
             }
             for (int k = 8; k < 16; k++) {
-                t->slot[k] = draw_slot(c, m, pg_synth_hash(seed, scale, v->face, gx, gy, 12 + k));
+                t->slot[k] = draw_slot(c, m, pg_hash_texel(seed, scale, v->face, gx, gy, 12 + k));
                 t->vq[k] = 0;
                 if (t->slot[k]) __builtin_prefetch(t->slot[k]);
             }

@@ -14,6 +14,7 @@
  *   4 [land differs] + 2 [ice differs] + (dh / 1500 m)^2 + (dT / 6 K)^2
  *     + ((sqrt P_e - sqrt P_t) / 10)^2
  * wins (the first on ties), so the choice is deterministic and independent of threads. */
+#include "pg_hash.h"
 #include "pg_planet_synth_internal.h"
 
 #include "planetgen/pg_climate.h"
@@ -177,8 +178,8 @@ uint32_t pg_ps_world_pick(const pg_ps_ctx *c, int r, int f, int x, int y) {
     size_t cell[PS_WORLD_DRAWS];
     /* the draws first, their level heights prefetched (random reads), then the match */
     for (int k = 0; k < PS_WORLD_DRAWS; k++) {
-        uint32_t a = pg_synth_hash(seed, s, f, x, y, 64 + 2 * k);
-        uint32_t bb = pg_synth_hash(seed, s, f, x, y, 65 + 2 * k);
+        uint32_t a = pg_hash_texel(seed, s, f, x, y, 64 + 2 * k);
+        uint32_t bb = pg_hash_texel(seed, s, f, x, y, 65 + 2 * k);
         int ef = (int)(a % 6u), u = (int)((a >> 3) % (uint32_t)E), v = (int)(bb % (uint32_t)E);
         cell[k] = ((size_t)ef * PS_WORLD_EXEMPLAR_N + v / b) * PS_WORLD_EXEMPLAR_N + u / b;
         cand[k] = pg_synth_pack(ef, u, v);

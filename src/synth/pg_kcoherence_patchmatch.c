@@ -22,6 +22,7 @@
  *
  * Determinism: a face's scan reads and writes only that face's table (other data is
  * read-only), so faces run in parallel with identical results for any thread count. */
+#include "pg_hash.h"
 #include "pg_synth_internal.h"
 
 #include <limits.h>
@@ -91,8 +92,8 @@ static void offer(const pm_ctx *c, uint32_t self, size_t t, uint32_t m0) {
 }
 
 static uint32_t random_coord(const pm_ctx *c, int face, int x, int y, int salt) {
-    uint32_t h1 = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
-    uint32_t h2 = pg_synth_hash(c->seed, c->scale, face, x, y, salt + 1);
+    uint32_t h1 = pg_hash_texel(c->seed, c->scale, face, x, y, salt);
+    uint32_t h2 = pg_hash_texel(c->seed, c->scale, face, x, y, salt + 1);
     int f = (int)(h1 % (uint32_t)c->ex->nfaces);
     return pg_synth_pack(f, (int)((h1 >> 8) % (uint32_t)c->E), (int)(h2 % (uint32_t)c->E));
 }
@@ -149,7 +150,7 @@ static void plan_search(const pm_ctx *c, int face, int x, int y, int it, search_
     int salt = 1000 + it * 100;
     p->n = 0;
     for (int r = c->E / 2; r >= 1; r /= 4, salt += 2) {
-        uint32_t h = pg_synth_hash(c->seed, c->scale, face, x, y, salt);
+        uint32_t h = pg_hash_texel(c->seed, c->scale, face, x, y, salt);
         p->du[p->n] = (int)(h & 0xffff) % (2 * r + 1) - r;
         p->dv[p->n++] = (int)(h >> 16) % (2 * r + 1) - r;
     }

@@ -12,6 +12,7 @@
  * with its V. Corrections are run tile by tile (tile_size) through the same view API the
  * planet uses; since sub-passes are order-independent (pg_synth_lefebvre_hoppe.c) any
  * tiling and any thread count give identical bytes. */
+#include "pg_hash.h"
 #include "pg_synth_internal.h"
 
 #include <stdlib.h>
@@ -70,8 +71,8 @@ static void init_top(const pg_synth_exemplar *ex, int s_top, uint64_t seed, leve
             if (ex->torus) {
                 c = pg_synth_pack(0, (h * x + h / 2) & (E - 1), (h * y + h / 2) & (E - 1));
             } else {
-                uint32_t a = pg_synth_hash(seed, 99, 0, x, y, 7);
-                uint32_t bb = pg_synth_hash(seed, 99, 0, x, y, 8);
+                uint32_t a = pg_hash_texel(seed, 99, 0, x, y, 7);
+                uint32_t bb = pg_hash_texel(seed, 99, 0, x, y, 8);
                 c = pg_synth_pack((int)(a % (uint32_t)ex->nfaces), (int)((a >> 3) % (uint32_t)E),
                                   (int)(bb % (uint32_t)E));
             }

@@ -29,6 +29,7 @@
  * scan order cannot change it. Halo texels across a cube seam carry an orientation:
  * offsets into them are rotated into their frame (docs/synthesis.md, "Reuse by the planet").
  * Ties keep the incumbent, then the earliest candidate, so results are exact. */
+#include "pg_hash.h"
 #include "pg_synth_grid_shape.h"
 #include "pg_synth_internal.h"
 
@@ -37,19 +38,8 @@
 
 const int pg_synth_subpass_order[4] = {0, 3, 1, 2}; /* (0,0), (1,1), (1,0), (0,1) */
 
-static inline uint64_t mix64(uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 uint32_t pg_synth_hash(uint64_t seed, int scale, int face, long x, long y, int salt) {
-    uint64_t h = mix64(seed + 0x9e3779b97f4a7c15ULL);
-    h = mix64(h ^ ((uint64_t)(uint32_t)scale << 40) ^ ((uint64_t)(uint32_t)face << 32) ^
-              (uint32_t)salt);
-    h = mix64(h ^ (uint64_t)x);
-    h = mix64(h ^ ((uint64_t)y * 0xd6e8feb86659fd93ULL));
-    return (uint32_t)(h >> 32);
+    return pg_hash_texel(seed, scale, face, x, y, salt);
 }
 
 /* Continue a move past a face edge on the neighbouring face. pg_cube_wrap's rot takes
@@ -178,8 +168,8 @@ void pg_synth_jitter(const pg_synth_exemplar *ex, int scale, double r, uint64_t 
     for (int y = 0; y < v->h; y++)
         for (int x = 0; x < v->w; x++) {
             long gx = v->gx + x, gy = v->gy + y;
-            double hx = pg_synth_hash(seed, scale, v->face, gx, gy, 0) * (2.0 / 4294967296.0) - 1;
-            double hy = pg_synth_hash(seed, scale, v->face, gx, gy, 1) * (2.0 / 4294967296.0) - 1;
+            double hx = pg_hash_texel(seed, scale, v->face, gx, gy, 0) * (2.0 / 4294967296.0) - 1;
+            double hy = pg_hash_texel(seed, scale, v->face, gx, gy, 1) * (2.0 / 4294967296.0) - 1;
             int jx = (int)floor(hr * hx + 0.5), jy = (int)floor(hr * hy + 0.5);
             uint32_t *s = &v->S[y * v->stride + x];
             *s = pg_synth_offset(ex, *s, jx, jy);
