@@ -148,7 +148,7 @@ void pg_ps_render(const pg_ps_ctx *c, const pg_ps_level *L, const float *H, cons
                 }
                 quantise_albedo(rgb);
                 if (c->use_types)
-                    ok += pg_ps_type_allowed(
+                    ok += pg_ps_type_allowed_fast(
                         c, pg_ps_mask_at(c, r, f, (long)(x / m), (long)(y / m)), q);
             }
         }
