@@ -339,8 +339,10 @@ int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, fl
 /* Lowers fill, a supersolution of the minimal fill's equation whose every value is the
  * highest ground on some path to a sink (a fill along any tree towards the sinks), to
  * the minimal fill of h, touching only the cells above it (st as pits_begin marked it,
- * OPEN or CLOSED elsewhere). 0 when done and checked; -1 when fill is not such a
- * supersolution or memory ran out (fill is then partly lowered). */
+ * OPEN or CLOSED elsewhere). Precondition, not checked: fill is nowhere below the
+ * minimal fill (path values never are). 0 when done and checked; -1 when some cell lies
+ * below its equation's right side (not a supersolution) or memory ran out (fill is then
+ * partly lowered). */
 int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill);
 /* Queue every sink with a non-sink (PITS_OPEN) neighbour, as pits_begin does. */
 void pits_seed(const pg_pits_topo *t, const uint8_t *st, pits_heap *q);
