@@ -456,7 +456,8 @@ static void test_sea_ice(void **state) {
                 pg_sea_ice_apply(&si3, f, x, y, h, 0, b);
                 differs += memcmp(b, rgb, sizeof b) != 0;
                 const double t = pg_sea_ice_temperature(&si, f, x, y);
-                if (land || t >= PG_CLIMATE_ICE_C + 8) { /* untouched, bit for bit */
+                /* water warmer than the model's T_NONE, PG_CLIMATE_ICE_C + 5.5, is open */
+                if (land || t >= PG_CLIMATE_ICE_C + 5.5) { /* untouched, bit for bit */
                     assert_false(iced);
                     assert_memory_equal(rgb, water, sizeof water);
                     continue;
@@ -464,8 +465,9 @@ static void test_sea_ice(void **state) {
                 if (t < -16) {
                     cold_n++, cold_ice += iced, cold_luma += luma(rgb);
                 }
-                /* below -6.5 deg C even the edge noise's lowest value leaves some cover */
-                if (t <= -6.5) assert_true(pg_sea_ice_cover(&si, f, x, y) > 0);
+                /* below -9 deg C (T_OPEN less the edge noise's 2 K, and a margin) even
+                 * the edge noise's lowest value leaves some cover */
+                if (t <= -9.0) assert_true(pg_sea_ice_cover(&si, f, x, y) > 0);
                 int k = (int)floor((t + 20) / 2);
                 if (k >= 0 && k < ICE_BINS) bin_n[k]++, bin_ice[k] += iced;
             }
@@ -487,8 +489,11 @@ static void test_sea_ice(void **state) {
         prev = share;
     }
     assert_true(bin_n[0] >= 200 && (double)bin_ice[0] / bin_n[0] >= 0.9); /* -20..-18 */
-    assert_true(bin_n[ICE_BINS - 2] >= 200); /* -4..-2; warmer texels were checked open */
-    assert_true((double)bin_ice[ICE_BINS - 2] / bin_n[ICE_BINS - 2] <= 0.1);
+    /* the margin is narrow: pack at -12..-10, open water at -6..-4 (warmer texels were
+     * checked open above); a margin as wide as the seasons' (8 K) left the pack full of
+     * holes for a thousand kilometres */
+    assert_true(bin_n[4] >= 200 && (double)bin_ice[4] / bin_n[4] >= 0.9);
+    assert_true(bin_n[7] >= 200 && (double)bin_ice[7] / bin_n[7] <= 0.1);
     /* no step at the face seams: across every seam the albedo's luma and the cover
      * target change no more than between each side's edge texel and the one inside it */
     double seam_l = 0, in_l = 0, seam_c = 0, in_c = 0;

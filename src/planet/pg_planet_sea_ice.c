@@ -13,12 +13,14 @@
  * THE MODEL, per delivered ocean texel (height <= sea level), with T the world's annual
  * mean temperature sampled bilinearly on the cube (as the type constraints sample it):
  *   cover c = clamp((T_OPEN - T) / (T_OPEN - T_PACK) + A_EDGE (n_edge - 1/2), 0, C_MAX)
- *   with T_PACK = PG_CLIMATE_ICE_C - 2 and T_OPEN = PG_CLIMATE_ICE_C + 6 (the tundra
- *   margin of the type rule). On Earth the perennial Arctic pack lies at annual means of
- *   -15 to -20 deg C, the summer-minimum ice edge near -10 and the winter-maximum edge
- *   near 0 to -2; the picture lies between the seasons. n_edge, a noise of about a
- *   thousand kilometres, makes the edge meander (A_EDGE = 0.5: about +-2 K, so water warmer than
- *   T_NONE = -2 deg C is always open).
+ *   with T_PACK = PG_CLIMATE_ICE_C + 0.5 and T_OPEN = PG_CLIMATE_ICE_C + 3.5. On Earth the
+ *   perennial Arctic pack lies at annual means of -15 to -20 deg C, the summer-minimum ice
+ *   edge near -10 and the winter-maximum edge near 0 to -2; the picture is one moment, a
+ *   pack with a marginal zone of floes, its edge (c = 1/2 at -8 deg C) between the
+ *   seasons'. A margin spanning the seasons' whole range (8 K) spread floes and holes over
+ *   a thousand kilometres of a world's gently cooling polar ocean. n_edge, a noise of
+ *   about a thousand kilometres, makes the edge meander (A_EDGE = 1.33: about +-2 K, so
+ *   water warmer than T_NONE = -4.5 deg C is always open).
  *   Floes and leads: the texel is ice where the floe noise n_floe (features of 4 to 32
  *   delivered texels, about 1/2 with standard deviation 0.13) lies below c, with a soft
  *   step of width W_STEP; so the covered share rises with c, the pack (C_MAX < 1) keeps a
@@ -51,9 +53,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define T_PACK (PG_CLIMATE_ICE_C - 2.0)
-#define T_OPEN (PG_CLIMATE_ICE_C + 6.0)
-#define A_EDGE 0.5
+#define T_PACK (PG_CLIMATE_ICE_C + 0.5)
+#define T_OPEN (PG_CLIMATE_ICE_C + 3.5)
+#define A_EDGE 1.33
 #define C_MAX 0.97
 /* the warmest water the edge noise can still cover: u = -A_EDGE / 2 */
 #define T_NONE (T_OPEN + A_EDGE / 2 * (T_OPEN - T_PACK))
