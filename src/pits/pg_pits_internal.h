@@ -340,7 +340,8 @@ int pits_meps_check(const pg_pits_topo *t, const float *f, const uint8_t *st, fl
  * highest ground on some path to a sink (a fill along any tree towards the sinks), to
  * the minimal fill of h, touching only the cells above it (st as pits_begin marked it,
  * OPEN or CLOSED elsewhere). Precondition, not checked: fill is nowhere below the
- * minimal fill (path values never are). 0 when done and checked; -1 when some cell lies
+ * minimal fill (path values never are). 0 when done and checked (at once, after one
+ * parallel scan, when fill already is the minimal fill); -1 when some cell lies
  * below its equation's right side (not a supersolution) or memory ran out (fill is then
  * partly lowered). */
 int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill);

@@ -429,23 +429,22 @@ static int fill_check(const pg_pits_topo *t, const float *h, const uint8_t *st, 
     return bad != 0;
 }
 
-/* When fill_check fails: lowers the tree's fill to the minimal fill f. The tree of W
- * (1) and the minimal fill's paths part where two spills of a depression differ by less
- * than the epsilon ramp to them: W drains a cell over the nearer spill, f over the lower
- * one. That is a handful of cells in millions (4 to 35 on the default planets), so
- * instead of a second fill of the whole surface (docs/pits.md, "Metrics") a Dijkstra
- * search lowers only them: the tree's fill F is a supersolution of f's equation,
- * F(c) = max(h(c), F(parent)) >= max(h(c), min over neighbours F(n)), with F >= f
- * (each F(c) is the highest ground on a real path). The search starts from the cells
- * where F exceeds its own equation's right side and sets each cell at most once, in
- * nondecreasing value (an offer max(h, v) is never below the value v it came from), to
- * the least path value it can reach; when it stops, F solves the equation everywhere
- * and is still a path value at every cell, so F <= f (f is the largest solution) and
- * F >= f: F = f, whatever the order of the search. Returns 0 when F is f, checked again
- * by fill_check; -1 when some cell lies below its right side (not a supersolution: the
- * caller falls back to a fill of its own) or memory ran out. Serial after one parallel
- * scan. The argument holds for the fill along any tree towards the sinks, not only W's
- * (test_pits_grid checks random trees). */
+/* Checks the tree's fill as fill_check does and, where it fails, lowers it to the minimal
+ * fill f. The tree of W (1) and the minimal fill's paths part where two spills of a depression
+ * differ by less than the epsilon ramp to them: W drains a cell over the nearer spill, f over the
+ * lower one. That is a handful of cells in millions (4 to 35 on the default planets), so instead of
+ * a second fill of the whole surface (docs/pits.md, "Metrics") a Dijkstra search lowers only them:
+ * the tree's fill F is a supersolution of f's equation, F(c) = max(h(c), F(parent)) >= max(h(c),
+ * min over neighbours F(n)), with F >= f (each F(c) is the highest ground on a real path). The
+ * search starts from the cells where F exceeds its own equation's right side and sets each cell at
+ * most once, in nondecreasing value (an offer max(h, v) is never below the value v it came from),
+ * to the least path value it can reach; when it stops, F solves the equation everywhere and is
+ * still a path value at every cell, so F <= f (f is the largest solution) and F >= f: F = f,
+ * whatever the order of the search. Returns 0 when F is f (at once when the first scan finds every
+ * cell equal to its right side; after a search, checked again by fill_check); -1 when some cell
+ * lies below its right side (not a supersolution: the caller falls back to a fill of its own) or
+ * memory ran out. Serial after one parallel scan. The argument holds for the fill along any tree
+ * towards the sinks, not only W's (test_pits_grid checks random trees). */
 int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill) {
     const int64_t n = (int64_t)t->ncells;
     pits_heap q = {0};
@@ -461,6 +460,9 @@ int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, f
             below++;
         }
     }
+    /* nothing above its right side and nothing below: the scan was fill_check's pass,
+     * and it held (the common case: no second pass over the planet) */
+    if (!below && !q.oom && !q.n) return 0;
     while (!below && !q.oom && q.n) {
         const uint64_t key = pits_heap_pop(&q);
         const uint32_t c = pits_key_id(key);
@@ -480,10 +482,10 @@ int pits_fill_repair(const pg_pits_topo *t, const float *h, const uint8_t *st, f
     return failed || fill_check(t, h, st, fill) ? -1 : 0;
 }
 
-/* The tree's fill checked, and repaired where the check fails: 1 when fill is the
- * minimal fill of h. */
+/* The tree's fill checked, and repaired where the check fails (pits_fill_repair's scan
+ * is the check): 1 when fill is the minimal fill of h. */
 static int fill_exact(const pg_pits_topo *t, const float *h, const uint8_t *st, float *fill) {
-    return !fill_check(t, h, st, fill) || !pits_fill_repair(t, h, st, fill);
+    return !pits_fill_repair(t, h, st, fill);
 }
 
 /* floor: NULL, or a copy of h that stays the input, so that the surface goes straight
